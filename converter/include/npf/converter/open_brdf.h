@@ -1,0 +1,16 @@
+// Opens any supported material file by looking at its contents, not its name.
+#pragma once
+
+#include <npf/core/brdf.h>
+
+#include <memory>
+#include <string>
+
+namespace npf {
+
+// RGL `.bsdf` (tensor_file magic) or MERL `.binary` (its header and exact size). Throws
+// npf::Error naming the file when it is missing, a directory, empty, of an unknown format or
+// malformed.
+std::unique_ptr<Brdf> open_brdf(const std::string& path);
+
+}  // namespace npf

@@ -1,0 +1,61 @@
+// What an evaluation returns, and how to read it from what a source stores.
+//
+// A material stores either RGB (linear sRGB, three channels) or a list of wavelengths (nm).
+// A caller asks for `Channels`: RGB, or any list of wavelengths. `ChannelQuery` is the request
+// resolved against one source's stored channels once, so that the per-direction evaluation
+// only blends two stored channels per requested one and never searches.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace npf {
+
+enum class ChannelKind { Rgb, Spectral };
+
+class Channels {
+public:
+    static Channels rgb();
+    // Wavelengths in nanometres; any order, duplicates allowed (each gets its own value).
+    static Channels spectral(std::vector<float> wavelengths_nm);
+
+    ChannelKind kind() const { return m_kind; }
+    bool is_rgb() const { return m_kind == ChannelKind::Rgb; }
+    std::size_t size() const { return m_kind == ChannelKind::Rgb ? 3 : m_wavelengths.size(); }
+    const std::vector<float>& wavelengths() const { return m_wavelengths; }  // empty for RGB
+
+    // "R G B" or the wavelengths, for headers and messages.
+    std::string describe() const;
+
+private:
+    ChannelKind m_kind = ChannelKind::Rgb;
+    std::vector<float> m_wavelengths;
+};
+
+// Requested channel k = (1 - weight1[k]) * stored[index0[k]] + weight1[k] * stored[index1[k]].
+// Spectral requests interpolate linearly between the neighbouring stored wavelengths and are
+// constant outside the stored range (the RGL readers' rule); RGB maps channel to channel.
+struct ChannelQuery {
+    Channels requested;
+    std::vector<std::uint32_t> index0, index1;
+    std::vector<float> weight1;
+    // Negative values (out-of-gamut RGB, noisy measurements) are clamped to zero unless false:
+    // the reference readers clamp RGB; `npf eval --raw` turns it off.
+    bool clamp_negative = true;
+
+    std::size_t size() const { return index0.size(); }
+};
+
+// Resolves `requested` against `stored`. Throws npf::Error naming `source` when they cannot
+// be matched (spectral wavelengths from an RGB source, RGB from a spectral one, empty lists,
+// non-finite or non-positive wavelengths).
+ChannelQuery make_channel_query(const Channels& stored, const Channels& requested,
+                                const std::string& source);
+
+// Parses a wavelength list as given on a command line: "450,550,650" or "start:end:count"
+// (count evenly spaced values, both ends included). Throws npf::Error naming `what`.
+std::vector<float> parse_wavelength_list(const std::string& text, const std::string& what);
+
+}  // namespace npf

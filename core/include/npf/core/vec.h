@@ -1,0 +1,49 @@
+// Small fixed-size vectors for direction work. Float, because every table we read is float32
+// and renderers hand us float directions; functions that need more care (elevation near the
+// normal, normalisation of nearly opposite vectors) are written to stay accurate in float.
+#pragma once
+
+#include <cmath>
+
+namespace npf {
+
+struct Vec2 {
+    float x = 0.f, y = 0.f;
+};
+
+struct Vec3 {
+    float x = 0.f, y = 0.f, z = 0.f;
+
+    Vec3() = default;
+    constexpr Vec3(float x_, float y_, float z_) : x(x_), y(y_), z(z_) {}
+
+    Vec3 operator+(const Vec3& o) const { return {x + o.x, y + o.y, z + o.z}; }
+    Vec3 operator-(const Vec3& o) const { return {x - o.x, y - o.y, z - o.z}; }
+    Vec3 operator*(float s) const { return {x * s, y * s, z * s}; }
+    Vec3 operator-() const { return {-x, -y, -z}; }
+};
+
+inline float dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline float length(const Vec3& a) { return std::sqrt(dot(a, a)); }
+inline Vec3 normalize(const Vec3& a) { return a * (1.f / length(a)); }
+
+// Angle between w and the normal (0,0,1). acos(w.z) loses all precision near the normal;
+// 2 asin(|w - n| / 2) does not (it is what the RGL reference readers use). Expects |w| = 1.
+inline float elevation(const Vec3& w) {
+    float d = std::sqrt(w.x * w.x + w.y * w.y + (w.z - 1.f) * (w.z - 1.f));
+    return 2.f * std::asin(std::fmin(1.f, 0.5f * d));
+}
+
+// Azimuth in (-pi, pi], 0 along the tangent x.
+inline float azimuth(const Vec3& w) { return std::atan2(w.y, w.x); }
+
+// Unit direction from spherical angles in the local frame (z normal, x tangent).
+inline Vec3 spherical_direction(float theta, float phi) {
+    float s = std::sin(theta);
+    return {s * std::cos(phi), s * std::sin(phi), std::cos(theta)};
+}
+
+constexpr float kPi = 3.14159265358979323846f;
+constexpr double kPiD = 3.14159265358979323846;
+
+}  // namespace npf

@@ -1,0 +1,109 @@
+#include <npf/core/channels.h>
+#include <npf/core/error.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace npf {
+
+Channels Channels::rgb() { return Channels(); }
+
+Channels Channels::spectral(std::vector<float> wavelengths_nm) {
+    Channels c;
+    c.m_kind = ChannelKind::Spectral;
+    c.m_wavelengths = std::move(wavelengths_nm);
+    return c;
+}
+
+std::string Channels::describe() const {
+    if (is_rgb()) return "R G B";
+    std::ostringstream os;
+    os.precision(7);
+    for (std::size_t i = 0; i < m_wavelengths.size(); ++i) os << (i ? " " : "") << m_wavelengths[i];
+    return os.str();
+}
+
+ChannelQuery make_channel_query(const Channels& stored, const Channels& requested,
+                                const std::string& source) {
+    ChannelQuery q;
+    q.requested = requested;
+    if (stored.is_rgb() != requested.is_rgb()) {
+        throw Error(source, stored.is_rgb()
+                                ? "holds RGB data; wavelengths cannot be requested from it"
+                                : "holds spectral data; request wavelengths, not RGB");
+    }
+    if (requested.is_rgb()) {
+        q.index0 = {0, 1, 2};
+        q.index1 = {0, 1, 2};
+        q.weight1 = {0.f, 0.f, 0.f};
+        return q;
+    }
+    const std::vector<float>& grid = stored.wavelengths();
+    if (grid.empty()) throw Error(source, "stores no wavelengths");
+    if (requested.wavelengths().empty()) throw Error(source, "no wavelengths requested");
+    for (float lambda : requested.wavelengths()) {
+        if (!std::isfinite(lambda) || lambda <= 0.f) {
+            throw Error(source, "requested wavelength " + std::to_string(lambda) +
+                                    " nm is not a positive finite number");
+        }
+        // Linear between neighbours, constant outside: the parameter-blend rule of the
+        // RGL readers (docs/rgl-format.md sec. 3.1) applied to the wavelength axis.
+        std::uint32_t i0 = 0, i1 = 0;
+        float t = 0.f;
+        if (grid.size() > 1) {
+            auto it = std::upper_bound(grid.begin(), grid.end(), lambda);
+            std::size_t i = it == grid.begin() ? 0 : std::size_t(it - grid.begin()) - 1;
+            i = std::min(i, grid.size() - 2);
+            i0 = std::uint32_t(i);
+            i1 = i0 + 1;
+            float span = grid[i1] - grid[i0];
+            t = span > 0.f ? std::clamp((lambda - grid[i0]) / span, 0.f, 1.f) : 0.f;
+        }
+        q.index0.push_back(i0);
+        q.index1.push_back(i1);
+        q.weight1.push_back(t);
+    }
+    return q;
+}
+
+std::vector<float> parse_wavelength_list(const std::string& text, const std::string& what) {
+    auto number = [&](const std::string& s) {
+        char* end = nullptr;
+        double v = std::strtod(s.c_str(), &end);
+        if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v) || v <= 0.0) {
+            throw Error(what, "'" + s + "' in wavelength list '" + text +
+                                  "' is not a positive number (nm)");
+        }
+        return v;
+    };
+    std::vector<float> out;
+    if (text.find(':') != std::string::npos) {
+        std::vector<std::string> parts;
+        std::stringstream ss(text);
+        for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+        if (parts.size() != 3) {
+            throw Error(what, "wavelength range '" + text + "' must be start:end:count");
+        }
+        double a = number(parts[0]), b = number(parts[1]), n = number(parts[2]);
+        if (n != std::floor(n) || n > 100000) {
+            throw Error(what, "count '" + parts[2] + "' in '" + text + "' must be a whole number up to 100000");
+        }
+        if (b < a) throw Error(what, "wavelength range '" + text + "' ends before it starts");
+        std::size_t count = std::size_t(n);
+        if (count == 1 && a != b) {
+            throw Error(what, "a range of one wavelength needs start == end in '" + text + "'");
+        }
+        for (std::size_t i = 0; i < count; ++i) {
+            out.push_back(float(count == 1 ? a : a + (b - a) * double(i) / double(count - 1)));
+        }
+        return out;
+    }
+    std::stringstream ss(text);
+    for (std::string p; std::getline(ss, p, ',');) out.push_back(float(number(p)));
+    if (out.empty()) throw Error(what, "empty wavelength list");
+    return out;
+}
+
+}  // namespace npf

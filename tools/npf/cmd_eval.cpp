@@ -1,0 +1,120 @@
+// npf eval FILE: a scriptable probe. Reads direction pairs (wi, wo) and prints one line of
+// values per pair: f_r in 1/sr, or f_r cos(theta_o) with --cos.
+#include "command_line.h"
+#include "commands.h"
+
+#include <npf/converter/open_brdf.h>
+#include <npf/core/error.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace npf::cli {
+
+namespace {
+
+const std::vector<FlagSpec> kFlags = {
+    {"--dirs", true, "file of direction pairs, one 'wi_x wi_y wi_z wo_x wo_y wo_z' per line ('-': stdin, the default)"},
+    {"--cos", false, "print f_r cos(theta_o) = f_r * wo.z (the RGL reference readers' convention)"},
+    {"--wavelengths", true, "spectral files: evaluate at '450,550,650' or 'start:end:count' (nm)"},
+    {"--raw", false, "keep negative values (out-of-gamut RGB) instead of clamping them to 0"},
+    {"--help", false, "show this help"},
+};
+
+const char* kHelp =
+    "usage: npf eval FILE [--dirs PATH|-] [--cos] [--wavelengths LIST] [--raw]\n\n"
+    "Directions are in the local frame (z the normal, x the tangent), both pointing away from the\n"
+    "surface, and are normalised on reading; lines starting with '#' and blank lines are skipped.\n"
+    "Output: a header '# ' with the channel names (R G B) or wavelengths (nm), then one line per\n"
+    "pair. A pair with either direction at or below the horizon gives 0.\n\n";
+
+// Parses "x y z x y z"; returns false with a reason when the line is not six finite numbers.
+bool parse_pair(const std::string& line, double v[6], std::string& why) {
+    std::istringstream is(line);
+    for (int k = 0; k < 6; ++k) {
+        if (!(is >> v[k])) {
+            why = "expected six numbers 'wi_x wi_y wi_z wo_x wo_y wo_z'";
+            return false;
+        }
+        if (!std::isfinite(v[k])) {
+            why = "non-finite number";
+            return false;
+        }
+    }
+    std::string extra;
+    if (is >> extra) {
+        why = "unexpected text after six numbers: '" + extra + "'";
+        return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+int run_eval(const std::vector<std::string>& args) {
+    CommandLine cl("eval", args, kFlags);
+    if (cl.has("--help") || cl.positional().size() != 1) {
+        std::printf("%s%s", kHelp, usage_lines(kFlags).c_str());
+        return cl.has("--help") ? 0 : 2;
+    }
+    const std::string path = cl.positional()[0];
+    std::unique_ptr<Brdf> brdf = open_brdf(path);
+
+    Channels channels = brdf->info().channels;
+    if (cl.has("--wavelengths")) {
+        if (channels.is_rgb()) throw Error(path, "holds RGB data; --wavelengths needs a spectral file");
+        channels = Channels::spectral(parse_wavelength_list(cl.value("--wavelengths"), "--wavelengths"));
+    }
+    ChannelQuery query = brdf->query(channels);
+    query.clamp_negative = !cl.has("--raw");
+    const bool with_cos = cl.has("--cos");
+
+    const std::string dirs = cl.value("--dirs", "-");
+    std::ifstream file;
+    if (dirs != "-") {
+        file.open(dirs);
+        if (!file) throw Error(dirs, "cannot open direction file");
+    }
+    std::istream& in = dirs == "-" ? std::cin : file;
+    const std::string dirs_name = dirs == "-" ? "<stdin>" : dirs;
+
+    std::string out = "# " + channels.describe() + "\n";
+    std::vector<float> values(query.size());
+    std::string line;
+    char buf[64];
+    for (std::size_t line_no = 1; std::getline(in, line); ++line_no) {
+        auto first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#') continue;
+        double v[6];
+        std::string why;
+        if (!parse_pair(line, v, why)) throw Error(dirs_name + ":" + std::to_string(line_no), why);
+        const double li = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        const double lo = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
+        if (!(li > 0.0) || !(lo > 0.0)) {
+            throw Error(dirs_name + ":" + std::to_string(line_no), "a direction of zero length");
+        }
+        const Vec3 wi(float(v[0] / li), float(v[1] / li), float(v[2] / li));
+        const Vec3 wo(float(v[3] / lo), float(v[4] / lo), float(v[5] / lo));
+        brdf->eval_cos(wi, wo, query, values.data());
+        for (std::size_t k = 0; k < values.size(); ++k) {
+            // f_r = (f_r cos) / cos; below the horizon the value is 0 and stays 0.
+            double value = values[k];
+            if (!with_cos) value = wo.z > 0.f ? value / double(wo.z) : 0.0;
+            std::snprintf(buf, sizeof(buf), k ? " %.9g" : "%.9g", value);
+            out += buf;
+        }
+        out += '\n';
+        if (out.size() > (1u << 16)) {
+            std::fwrite(out.data(), 1, out.size(), stdout);
+            out.clear();
+        }
+    }
+    if (in.bad()) throw Error(dirs_name, "read error");
+    std::fwrite(out.data(), 1, out.size(), stdout);
+    return 0;
+}
+
+}  // namespace npf::cli

@@ -1,0 +1,13 @@
+// The npf subcommands. Each takes its arguments (after the subcommand name) and returns the
+// process exit status; user errors are thrown as npf::Error and reported by main.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace npf::cli {
+
+int run_info(const std::vector<std::string>& args);
+int run_eval(const std::vector<std::string>& args);
+
+}  // namespace npf::cli

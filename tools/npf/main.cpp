@@ -1,0 +1,55 @@
+// npf: convert, inspect and evaluate measured BRDFs. One command, one subcommand per task.
+#include "commands.h"
+
+#include <npf/core/error.h>
+
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Subcommand {
+    const char* name;
+    int (*run)(const std::vector<std::string>&);
+    const char* summary;
+};
+
+const Subcommand kSubcommands[] = {
+    {"info", npf::cli::run_info, "what a material file holds: format, isotropy, channels, grids, size"},
+    {"eval", npf::cli::run_eval, "evaluate a material at direction pairs read from a file or stdin"},
+};
+
+void print_usage(std::FILE* to) {
+    std::fprintf(to, "usage: npf <command> [options]\n\ncommands:\n");
+    for (const Subcommand& s : kSubcommands) std::fprintf(to, "  %-8s %s\n", s.name, s.summary);
+    std::fprintf(to, "\n'npf <command> --help' describes a command.\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+        print_usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    const std::string name = argv[1];
+    std::vector<std::string> args(argv + 2, argv + argc);
+    for (const Subcommand& s : kSubcommands) {
+        if (name != s.name) continue;
+        try {
+            return s.run(args);
+        } catch (const npf::Error& e) {
+            std::fprintf(stderr, "npf %s: error: %s\n", s.name, e.what());
+            return 1;
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "npf %s: internal error: %s\n", s.name, e.what());
+            return 3;
+        }
+    }
+    std::fprintf(stderr, "npf: unknown command '%s'\n\n", name.c_str());
+    print_usage(stderr);
+    return 2;
+}
