@@ -1,0 +1,40 @@
+// Small, valid RGL `.bsdf` files of every kind the reader supports, made in memory for tests:
+// isotropic and anisotropic (phi_i reductions 1, 2, 4), RGB and spectral, jacobian 0 or 1.
+// The tables follow an analytic anisotropic microfacet-like lobe plus a diffuse floor, so
+// that sampling tests see realistic, peaked densities. Not a physically exact writer (that is
+// the converter's RGL writer); only structurally what every reference reader accepts.
+#pragma once
+
+#include <npf/converter/tensor_file.h>
+
+#include <string>
+#include <vector>
+
+namespace npf::testing {
+
+struct SyntheticRglSpec {
+    int phi_count = 1;         // 1 (or 2): isotropic; >= 3: anisotropic
+    int reduction = 1;         // anisotropic only: phi_i covers 2 pi / reduction
+    int theta_count = 6;       // theta_i nodes in [0, pi/2]
+    int ndf_size = 64;         // ndf and sigma: [rows, ndf_size]; rows = 2 if isotropic, else phi nodes
+    int vndf_size = 32;        // vndf inner grid: vndf_size x vndf_size
+    int data_size = 16;        // data grid: data_size x data_size
+    bool spectral = false;
+    std::vector<float> wavelengths = {400.f, 500.f, 600.f, 700.f};
+    bool jacobian = true;
+    float alpha_x = 0.3f, alpha_y = 0.3f;  // lobe widths along tangent / bitangent
+    std::string description = "synthetic test material";
+};
+
+// The fields of such a file, ready to serialize or to modify before writing.
+TensorFileWriter make_synthetic_rgl(const SyntheticRglSpec& spec);
+// Writes it atomically to `path` and returns `path`.
+std::string write_synthetic_rgl(const SyntheticRglSpec& spec, const std::string& path);
+
+// A fresh temporary folder for one test (removed by the OS eventually; tests clean up files
+// they care about).
+std::string temporary_folder(const std::string& tag);
+// Path of a file in ../shared/data (NPF_SHARED_DATA env var overrides), or "" if absent.
+std::string shared_data_file(const std::string& relative);
+
+}  // namespace npf::testing
