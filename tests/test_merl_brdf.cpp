@@ -1,0 +1,734 @@
+// Tests of the MERL `.binary` reader. No real MERL file is available, so every table is written
+// here with npf::write_merl, and expected values are computed from the format's definition
+// (half/difference angles, square-root theta_h grid, reciprocity fold, channel scales) with
+// geometry written independently of the reader.
+#include <npf/converter/merl_brdf.h>
+#include <npf/core/error.h>
+
+#include <chi2.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using npf::MerlBrdf;
+using npf::MerlLookup;
+using npf::Vec3;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kScale[3] = {1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0};
+
+// One folder per test process, removed when the process ends.
+class TempFolder {
+public:
+    TempFolder() {
+        std::random_device rd;
+        m_path = fs::temp_directory_path() /
+                 ("npf_test_merl_" + std::to_string(rd()) + "_" + std::to_string(rd()));
+        fs::create_directories(m_path);
+    }
+    ~TempFolder() {
+        std::error_code ec;
+        fs::remove_all(m_path, ec);
+    }
+    std::string file(const std::string& name) const { return (m_path / name).string(); }
+
+private:
+    fs::path m_path;
+};
+
+const TempFolder& temp_folder() {
+    static TempFolder folder;
+    return folder;
+}
+
+npf::ChannelQuery rgb_query(bool clamp_negative = true) {
+    npf::ChannelQuery q;
+    q.requested = npf::Channels::rgb();
+    q.index0 = {0, 1, 2};
+    q.index1 = {0, 1, 2};
+    q.weight1 = {0.f, 0.f, 0.f};
+    q.clamp_negative = clamp_negative;
+    return q;
+}
+
+struct DirectionPair {
+    Vec3 wi, wo;
+};
+
+// The inverse of the MERL parameterisation: the difference vector d (polar theta_d, azimuth
+// phi_d about the half vector) is rotated about y by theta_h, then about z by phi_h; wo is d
+// mirrored about the half vector (-d.x, -d.y, d.z) taken through the same rotations.
+DirectionPair pair_from_half_diff(double theta_h, double phi_h, double theta_d, double phi_d) {
+    const double dx = std::sin(theta_d) * std::cos(phi_d);
+    const double dy = std::sin(theta_d) * std::sin(phi_d);
+    const double dz = std::cos(theta_d);
+    auto to_local = [&](double x, double y, double z) {
+        const double x1 = x * std::cos(theta_h) + z * std::sin(theta_h);
+        const double z1 = -x * std::sin(theta_h) + z * std::cos(theta_h);
+        const double y1 = y;
+        return Vec3(static_cast<float>(x1 * std::cos(phi_h) - y1 * std::sin(phi_h)),
+                    static_cast<float>(x1 * std::sin(phi_h) + y1 * std::cos(phi_h)),
+                    static_cast<float>(z1));
+    };
+    return {to_local(dx, dy, dz), to_local(-dx, -dy, dz)};
+}
+
+// Continuous bin coordinates (bin k covers [k, k+1)) -> angles, per the format's index rules.
+double theta_h_at(double coord, int n) { return (coord / n) * (coord / n) * (kPi / 2); }
+double theta_d_at(double coord, int n) { return coord / n * (kPi / 2); }
+double phi_d_at(double coord, int n) { return coord / n * kPi; }
+
+Vec3 rotate_z(const Vec3& v, double angle) {
+    const double c = std::cos(angle), s = std::sin(angle);
+    return {static_cast<float>(c * v.x - s * v.y), static_cast<float>(s * v.x + c * v.y), v.z};
+}
+
+Vec3 random_upper_direction(npf::testing::Pcg32& rng) {
+    const double z = rng.next_float();
+    const double phi = 2 * kPi * rng.next_float();
+    const double r = std::sqrt(std::max(0.0, 1 - z * z));
+    return {static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)),
+            static_cast<float>(z)};
+}
+
+// f_r / channel scale: the stored number the reader picked (or blended) for channel c.
+std::array<double, 3> stored_numbers(const MerlBrdf& brdf, const DirectionPair& p) {
+    float out[3];
+    brdf.eval_cos(p.wi, p.wo, rgb_query(false), out);
+    std::array<double, 3> stored{};
+    for (int c = 0; c < 3; ++c) stored[c] = out[c] / p.wo.z / kScale[c];
+    return stored;
+}
+
+// ---- A full 90 x 90 x 180 table whose channels spell out the bin ------------------------
+
+// Every bin stores R = theta_h index + 1, G = theta_d index + 1, B = phi_d index + 1, except
+// one bin with distinctive values, so a lookup shows which bin it used.
+constexpr int kSpecialTh = 37, kSpecialTd = 12, kSpecialPd = 101;
+constexpr double kSpecialStored[3] = {1234.5, 777.25, 42.125};
+
+class MerlIndexTable : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        s_path = temp_folder().file("index-table.binary");
+        npf::write_merl(s_path, 90, 90, 180, [](int ith, int itd, int ipd, double rgb[3]) {
+            if (ith == kSpecialTh && itd == kSpecialTd && ipd == kSpecialPd) {
+                for (int c = 0; c < 3; ++c) rgb[c] = kSpecialStored[c];
+            } else {
+                rgb[0] = ith + 1;
+                rgb[1] = itd + 1;
+                rgb[2] = ipd + 1;
+            }
+        });
+        s_nearest = MerlBrdf::load(s_path).release();
+        s_linear = MerlBrdf::load(s_path, {MerlLookup::Linear}).release();
+    }
+    static void TearDownTestSuite() {
+        delete s_nearest;
+        delete s_linear;
+        s_nearest = s_linear = nullptr;
+        std::error_code ec;
+        fs::remove(s_path, ec);
+    }
+
+    static std::string s_path;
+    static MerlBrdf* s_nearest;
+    static MerlBrdf* s_linear;
+};
+
+std::string MerlIndexTable::s_path;
+MerlBrdf* MerlIndexTable::s_nearest = nullptr;
+MerlBrdf* MerlIndexTable::s_linear = nullptr;
+
+// (a) The distinctive bin, reached from directions built by hand from its centre angles.
+// The square-root theta_h grid matters: a uniform grid would put theta_h = 0.273 in bin 15.
+TEST_F(MerlIndexTable, HandComputedBinAllChannels) {
+    const double theta_h = theta_h_at(kSpecialTh + 0.5, 90);
+    const double theta_d = theta_d_at(kSpecialTd + 0.5, 90);
+    const double phi_d = phi_d_at(kSpecialPd + 0.5, 180);
+    ASSERT_NEAR(theta_h, 0.27271, 1e-4);
+    for (double phi_h : {0.0, 0.8, -2.5, 3.0}) {
+        // phi_d - pi is the same configuration with wi and wo exchanged: the reciprocity fold
+        // must bring it to the same bin.
+        for (double pd : {phi_d, phi_d - kPi}) {
+            const DirectionPair p = pair_from_half_diff(theta_h, phi_h, theta_d, pd);
+            ASSERT_GT(p.wi.z, 0.f);
+            ASSERT_GT(p.wo.z, 0.f);
+            float out[3];
+            s_nearest->eval_cos(p.wi, p.wo, rgb_query(), out);
+            EXPECT_FLOAT_EQ(out[0], static_cast<float>(1234.5 * (1.0 / 1500.0) * p.wo.z));
+            EXPECT_FLOAT_EQ(out[1], static_cast<float>(777.25 * (1.15 / 1500.0) * p.wo.z));
+            EXPECT_FLOAT_EQ(out[2], static_cast<float>(42.125 * (1.66 / 1500.0) * p.wo.z));
+        }
+    }
+    EXPECT_DOUBLE_EQ(s_nearest->bin_value(1, kSpecialTh, kSpecialTd, kSpecialPd),
+                     777.25 * 1.15 / 1500.0);
+}
+
+// Every channel names the bin the reader used: check many bins, away from their edges.
+TEST_F(MerlIndexTable, NearestPicksTheBinOfTheAngles) {
+    npf::testing::Pcg32 rng(7);
+    int checked = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const int ith = static_cast<int>(rng.next_float() * 90);
+        const int itd = static_cast<int>(rng.next_float() * 90);
+        const int ipd = static_cast<int>(rng.next_float() * 180);
+        if (ith == kSpecialTh && itd == kSpecialTd && ipd == kSpecialPd) continue;
+        const double theta_h = theta_h_at(ith + 0.2 + 0.6 * rng.next_float(), 90);
+        const double theta_d = theta_d_at(itd + 0.2 + 0.6 * rng.next_float(), 90);
+        const double phi_d = phi_d_at(ipd + 0.2 + 0.6 * rng.next_float(), 180);
+        if (theta_h + theta_d > kPi / 2 - 0.01) continue;  // keep both above the horizon
+        const double phi_h = 2 * kPi * rng.next_float() - kPi;
+        const auto stored = stored_numbers(*s_nearest, pair_from_half_diff(theta_h, phi_h,
+                                                                           theta_d, phi_d));
+        ASSERT_NEAR(stored[0], ith + 1, 1e-3) << "theta_h bin, trial " << trial;
+        ASSERT_NEAR(stored[1], itd + 1, 1e-3) << "theta_d bin, trial " << trial;
+        ASSERT_NEAR(stored[2], ipd + 1, 1e-3) << "phi_d bin, trial " << trial;
+        ++checked;
+    }
+    EXPECT_GT(checked, 1000);
+}
+
+// At the normal, theta_h = 0 and theta_d = 0 must use the first bins.
+TEST_F(MerlIndexTable, NormalAndRetroreflection) {
+    const Vec3 n{0.f, 0.f, 1.f};
+    const auto at_normal = stored_numbers(*s_nearest, {n, n});
+    EXPECT_NEAR(at_normal[0], 1.0, 1e-5);
+    EXPECT_NEAR(at_normal[1], 1.0, 1e-5);
+    // wi = wo away from the normal: theta_d = 0, theta_h = the elevation.
+    const Vec3 w = npf::spherical_direction(0.6f, 1.1f);
+    const auto retro = stored_numbers(*s_nearest, {w, w});
+    EXPECT_NEAR(retro[0], std::floor(std::sqrt(0.6f / (kPi / 2)) * 90) + 1, 1e-4);
+    EXPECT_NEAR(retro[1], 1.0, 1e-5);
+}
+
+// (b) f_r(wi, wo) = f_r(wo, wi).
+TEST_F(MerlIndexTable, Reciprocity) {
+    npf::testing::Pcg32 rng(11);
+    for (const MerlBrdf* brdf : {s_nearest, s_linear}) {
+        for (int i = 0; i < 5000; ++i) {
+            const Vec3 a = random_upper_direction(rng), b = random_upper_direction(rng);
+            if (a.z <= 0.f || b.z <= 0.f) continue;
+            const auto ab = stored_numbers(*brdf, {a, b});
+            const auto ba = stored_numbers(*brdf, {b, a});
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(ab[c], ba[c], 1e-5 * std::fabs(ab[c]) + 1e-6)
+                    << (brdf == s_nearest ? "nearest" : "linear") << " pair " << i;
+        }
+    }
+}
+
+// (c) Isotropy: turning both directions about the normal changes nothing. Nearest uses pairs
+// well inside their bins, so that float rounding of the rotation cannot cross a bin edge.
+TEST_F(MerlIndexTable, Isotropy) {
+    npf::testing::Pcg32 rng(13);
+    for (int i = 0; i < 3000; ++i) {
+        const double theta_h = theta_h_at(static_cast<int>(rng.next_float() * 60) + 0.5, 90);
+        const double theta_d = theta_d_at(static_cast<int>(rng.next_float() * 30) + 0.5, 90);
+        const double phi_d = phi_d_at(static_cast<int>(rng.next_float() * 180) + 0.5, 180);
+        const DirectionPair p = pair_from_half_diff(theta_h, 0.3, theta_d, phi_d);
+        const double angle = 2 * kPi * rng.next_float();
+        const DirectionPair turned{rotate_z(p.wi, angle), rotate_z(p.wo, angle)};
+        if (p.wo.z <= 0.f || p.wi.z <= 0.f) continue;
+        const auto before = stored_numbers(*s_nearest, p);
+        const auto after = stored_numbers(*s_nearest, turned);
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(before[c], after[c], 1e-3) << "pair " << i;
+    }
+    for (int i = 0; i < 3000; ++i) {
+        const DirectionPair p{random_upper_direction(rng), random_upper_direction(rng)};
+        if (p.wo.z <= 0.f || p.wi.z <= 0.f) continue;
+        const double angle = 2 * kPi * rng.next_float();
+        const auto before = stored_numbers(*s_linear, p);
+        const DirectionPair turned{rotate_z(p.wi, angle), rotate_z(p.wo, angle)};
+        const auto after = stored_numbers(*s_linear, turned);
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(before[c], after[c], 2e-2) << "pair " << i;
+    }
+}
+
+// (e) Linear: the table is linear in the bin index on each axis, so trilinear interpolation
+// between bin centres must reproduce "continuous coordinate + 0.5" exactly, held constant
+// beyond the outer centres of theta_h and theta_d.
+TEST_F(MerlIndexTable, LinearFollowsTheContinuousCoordinates) {
+    npf::testing::Pcg32 rng(17);
+    int checked = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const double uh = 90 * rng.next_float(), ud = 90 * rng.next_float();
+        const double up = 0.5 + 179 * rng.next_float();  // away from the wrap-around
+        const double theta_h = theta_h_at(uh, 90), theta_d = theta_d_at(ud, 90);
+        if (theta_h < 0.01 || theta_h + theta_d > kPi / 2 - 0.01) continue;
+        // Keep off the special bin's neighbourhood, whose values are not the linear ramp.
+        if (std::fabs(uh - kSpecialTh - 0.5) < 1.2 && std::fabs(ud - kSpecialTd - 0.5) < 1.2 &&
+            std::fabs(up - kSpecialPd - 0.5) < 1.2)
+            continue;
+        const DirectionPair p =
+            pair_from_half_diff(theta_h, 2 * kPi * rng.next_float(), theta_d, phi_d_at(up, 180));
+        const auto stored = stored_numbers(*s_linear, p);
+        ASSERT_NEAR(stored[0], std::clamp(uh, 0.5, 89.5) + 0.5, 2e-3) << "uh " << uh;
+        ASSERT_NEAR(stored[1], std::clamp(ud, 0.5, 89.5) + 0.5, 2e-3) << "ud " << ud;
+        // phi_d is poorly conditioned by float directions: about 1e-7 / sin(theta_d) radians
+        // from d itself, and 1e-7 / (cos(theta_d) sin(theta_h)) through phi_h when both
+        // directions graze (|wi + wo| = 2 cos(theta_d)) while the half vector is near the normal.
+        const double phi_d_error =
+            3e-7 * (1 / std::sin(theta_d) + 1 / (std::cos(theta_d) * std::sin(theta_h)));
+        ASSERT_NEAR(stored[2], up + 0.5, 2e-3 + phi_d_error * 180 / kPi)
+            << "up " << up << " theta_h " << theta_h << " theta_d " << theta_d;
+        ++checked;
+    }
+    EXPECT_GT(checked, 1000);
+}
+
+// (e) At bin centres Linear and Nearest agree, the distinctive bin included.
+TEST_F(MerlIndexTable, LinearEqualsNearestAtBinCentres) {
+    npf::testing::Pcg32 rng(19);
+    std::vector<std::array<int, 3>> bins = {{kSpecialTh, kSpecialTd, kSpecialPd}, {0, 0, 0},
+                                            {89, 0, 179}, {5, 80, 3}};
+    for (int i = 0; i < 2000; ++i)
+        bins.push_back({static_cast<int>(rng.next_float() * 90),
+                        static_cast<int>(rng.next_float() * 90),
+                        static_cast<int>(rng.next_float() * 180)});
+    int checked = 0;
+    for (const auto& bin : bins) {
+        const double theta_h = theta_h_at(bin[0] + 0.5, 90), theta_d = theta_d_at(bin[1] + 0.5, 90);
+        if (theta_h + theta_d > kPi / 2 - 0.01) continue;
+        const DirectionPair p =
+            pair_from_half_diff(theta_h, 1.7, theta_d, phi_d_at(bin[2] + 0.5, 180));
+        const auto nearest = stored_numbers(*s_nearest, p);
+        const auto linear = stored_numbers(*s_linear, p);
+        for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(linear[c], nearest[c], 2e-3 * std::fabs(nearest[c]))
+                << "bin " << bin[0] << " " << bin[1] << " " << bin[2] << " channel " << c;
+        ++checked;
+    }
+    EXPECT_GT(checked, 500);
+}
+
+// (f) Sampling: cosine-weighted, consistent with pdf, weight = eval / pdf.
+TEST_F(MerlIndexTable, SampleMatchesPdfAndEval) {
+    npf::testing::Pcg32 rng(23);
+    const npf::ChannelQuery q = rgb_query();
+    double sum_z = 0, sum_z2 = 0;
+    int accepted = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3 wi = random_upper_direction(rng);
+        if (wi.z <= 0.f) continue;
+        npf::BrdfSample s;
+        float weight[3], eval[3];
+        if (!s_nearest->sample(wi, {rng.next_float(), rng.next_float()}, q, s, weight)) continue;
+        ++accepted;
+        ASSERT_GT(s.wo.z, 0.f);
+        ASSERT_NEAR(npf::length(s.wo), 1.f, 1e-5f);
+        ASSERT_EQ(s.pdf, s_nearest->pdf(wi, s.wo));
+        ASSERT_FLOAT_EQ(s.pdf, static_cast<float>(s.wo.z / kPi));
+        s_nearest->eval_cos(wi, s.wo, q, eval);
+        for (int c = 0; c < 3; ++c) ASSERT_FLOAT_EQ(weight[c], eval[c] / s.pdf);
+        sum_z += s.wo.z;
+        sum_z2 += s.wo.z * s.wo.z;
+    }
+    EXPECT_GT(accepted, 19900);
+    // Cosine-weighted hemisphere: E[cos] = 2/3, E[cos^2] = 1/2.
+    EXPECT_NEAR(sum_z / accepted, 2.0 / 3.0, 0.01);
+    EXPECT_NEAR(sum_z2 / accepted, 0.5, 0.01);
+
+    // Below the horizon: no sample, zero weights, zero pdf.
+    npf::BrdfSample s;
+    float weight[3] = {1.f, 1.f, 1.f};
+    EXPECT_FALSE(s_nearest->sample({0.f, 0.6f, -0.8f}, {0.3f, 0.4f}, q, s, weight));
+    for (float w : weight) EXPECT_EQ(w, 0.f);
+    EXPECT_EQ(s_nearest->pdf({0.f, 0.6f, -0.8f}, {0.f, 0.f, 1.f}), 0.f);
+    EXPECT_EQ(s_nearest->pdf({0.f, 0.f, 1.f}, {0.f, 0.6f, -0.8f}), 0.f);
+}
+
+// (f) The pdf integrates to one over the hemisphere (midpoint rule in theta and phi), and the
+// chi-square test agrees that sample() draws from it.
+TEST_F(MerlIndexTable, PdfIntegratesToOne) {
+    for (const Vec3 wi : {Vec3(0.f, 0.f, 1.f), npf::spherical_direction(1.2f, 0.4f),
+                          npf::spherical_direction(1.5707f, -2.f)}) {
+        const int n_theta = 256, n_phi = 256;
+        double integral = 0;
+        for (int i = 0; i < n_theta; ++i) {
+            const double theta = (i + 0.5) / n_theta * (kPi / 2);
+            for (int j = 0; j < n_phi; ++j) {
+                const double phi = (j + 0.5) / n_phi * 2 * kPi;
+                const Vec3 wo = npf::spherical_direction(static_cast<float>(theta),
+                                                         static_cast<float>(phi));
+                integral += s_nearest->pdf(wi, wo) * std::sin(theta);
+            }
+        }
+        integral *= (kPi / 2 / n_theta) * (2 * kPi / n_phi);
+        EXPECT_NEAR(integral, 1.0, 1e-4);
+
+        npf::testing::Chi2Options opt;
+        opt.sample_count = 100000;
+        const npf::testing::Chi2Result r = npf::testing::run_chi2_test(*s_nearest, wi, opt);
+        EXPECT_TRUE(r.passed) << r.message;
+    }
+}
+
+// (h) No NaN, Inf or negative value anywhere, including grazing and normal directions.
+void check_always_finite(const MerlBrdf& brdf, std::uint64_t seed, int pairs) {
+    npf::testing::Pcg32 rng(seed);
+    auto direction = [&](int kind) {
+        const double phi = 2 * kPi * rng.next_float();
+        double z = rng.next_float();
+        if (kind == 1) z = 1e-6;                    // just above the horizon
+        if (kind == 2) return Vec3(0.f, 0.f, 1.f);  // exactly the normal
+        if (kind == 3) z = 0.0;                     // on the horizon: must give 0
+        if (kind == 4) z = 1.0 - 1e-7;              // next to the normal
+        const double r = std::sqrt(1 - z * z);
+        return Vec3(static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)),
+                    static_cast<float>(z));
+    };
+    const npf::ChannelQuery clamped = rgb_query(true), raw = rgb_query(false);
+    for (int i = 0; i < pairs; ++i) {
+        const Vec3 wi = direction(static_cast<int>(rng.next_float() * 5));
+        const Vec3 wo = direction(static_cast<int>(rng.next_float() * 5));
+        const bool below = wi.z <= 0.f || wo.z <= 0.f;
+        float out[3], out_raw[3];
+        brdf.eval_cos(wi, wo, clamped, out);
+        brdf.eval_cos(wi, wo, raw, out_raw);
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_TRUE(std::isfinite(out[c])) << i;
+            ASSERT_TRUE(std::isfinite(out_raw[c])) << i;
+            ASSERT_GE(out[c], 0.f) << i;
+            if (below) {
+                ASSERT_EQ(out[c], 0.f) << i;
+                ASSERT_EQ(out_raw[c], 0.f) << i;
+            }
+        }
+        const float p = brdf.pdf(wi, wo);
+        ASSERT_TRUE(std::isfinite(p) && p >= 0.f) << i;
+        if (below) {
+            ASSERT_EQ(p, 0.f) << i;
+        }
+        npf::BrdfSample s;
+        float weight[3];
+        if (brdf.sample(wi, {rng.next_float(), rng.next_float()}, clamped, s, weight)) {
+            ASSERT_TRUE(std::isfinite(s.pdf) && s.pdf > 0.f) << i;
+            for (float w : weight) ASSERT_TRUE(std::isfinite(w) && w >= 0.f) << i;
+        }
+    }
+}
+
+TEST_F(MerlIndexTable, AlwaysFiniteAndNonNegative) {
+    check_always_finite(*s_nearest, 29, 50000);
+    check_always_finite(*s_linear, 30, 50000);
+}
+
+TEST_F(MerlIndexTable, HonoursChannelQueryMapping) {
+    const DirectionPair p = pair_from_half_diff(theta_h_at(kSpecialTh + 0.5, 90), 0.1,
+                                                theta_d_at(kSpecialTd + 0.5, 90),
+                                                phi_d_at(kSpecialPd + 0.5, 180));
+    npf::ChannelQuery q = rgb_query();
+    q.index0 = {2, 0};
+    q.index1 = {1, 0};
+    q.weight1 = {0.25f, 0.f};
+    float out[2];
+    s_nearest->eval_cos(p.wi, p.wo, q, out);
+    const double r = kSpecialStored[0] * kScale[0], g = kSpecialStored[1] * kScale[1],
+                 b = kSpecialStored[2] * kScale[2];
+    EXPECT_FLOAT_EQ(out[0], static_cast<float>((0.75 * b + 0.25 * g) * p.wo.z));
+    EXPECT_FLOAT_EQ(out[1], static_cast<float>(r * p.wo.z));
+}
+
+TEST_F(MerlIndexTable, Info) {
+    const npf::BrdfInfo& info = s_nearest->info();
+    EXPECT_EQ(info.format, "merl");
+    EXPECT_EQ(info.path, s_path);
+    EXPECT_EQ(info.description, "index-table");
+    EXPECT_TRUE(info.isotropic);
+    EXPECT_TRUE(info.channels.is_rgb());
+    EXPECT_EQ(info.file_bytes, 12u + 90u * 90u * 180u * 3u * 8u);
+    EXPECT_EQ(fs::file_size(s_path), info.file_bytes);
+    auto detail = [&](const npf::BrdfInfo& i, const std::string& key) {
+        for (const auto& kv : i.details)
+            if (kv.first == key) return kv.second;
+        return std::string("<missing>");
+    };
+    EXPECT_EQ(detail(info, "grid"), "90 x 90 x 180 (theta_h x theta_d x phi_d)");
+    EXPECT_EQ(detail(info, "lookup"), "nearest");
+    EXPECT_EQ(detail(info, "invalid samples"), "0 of 1458000");
+    EXPECT_EQ(detail(s_linear->info(), "lookup"), "linear");
+    EXPECT_EQ(s_nearest->theta_h_bins(), 90);
+    EXPECT_EQ(s_nearest->theta_d_bins(), 90);
+    EXPECT_EQ(s_nearest->phi_d_bins(), 180);
+}
+
+TEST_F(MerlIndexTable, SniffsTheFormat) {
+    std::uint8_t head[16];
+    std::ifstream in(s_path, std::ios::binary);
+    in.read(reinterpret_cast<char*>(head), sizeof head);
+    const std::uint64_t size = fs::file_size(s_path);
+    EXPECT_TRUE(MerlBrdf::looks_like_merl(head, sizeof head, size));
+    EXPECT_FALSE(MerlBrdf::looks_like_merl(head, sizeof head, size - 8));
+    EXPECT_FALSE(MerlBrdf::looks_like_merl(head, sizeof head, size + 1));
+    EXPECT_FALSE(MerlBrdf::looks_like_merl(head, 11, size));
+    head[0] = 0;  // theta_h dimension 0 (90 = 0x5a in the low byte)
+    EXPECT_FALSE(MerlBrdf::looks_like_merl(head, sizeof head, size));
+}
+
+// ---- Small tables --------------------------------------------------------------------------
+
+// (d) A Lambertian table gives the constant f_r = stored * scale everywhere, in both modes and
+// on a grid other than 90 x 90 x 180.
+TEST(MerlBrdf, LambertianTable) {
+    const std::string path = temp_folder().file("lambert.binary");
+    const double stored[3] = {300.0, 400.0, 500.0};
+    npf::write_merl(path, 9, 7, 11, [&](int, int, int, double rgb[3]) {
+        for (int c = 0; c < 3; ++c) rgb[c] = stored[c];
+    });
+    npf::testing::Pcg32 rng(31);
+    for (MerlLookup lookup : {MerlLookup::Nearest, MerlLookup::Linear}) {
+        const auto brdf = MerlBrdf::load(path, {lookup});
+        EXPECT_EQ(brdf->theta_d_bins(), 7);
+        for (int i = 0; i < 5000; ++i) {
+            const Vec3 wi = random_upper_direction(rng), wo = random_upper_direction(rng);
+            if (wi.z <= 0.f || wo.z <= 0.f) continue;
+            float out[3];
+            brdf->eval_cos(wi, wo, rgb_query(), out);
+            for (int c = 0; c < 3; ++c)
+                ASSERT_FLOAT_EQ(out[c] / wo.z, static_cast<float>(stored[c] * kScale[c]));
+        }
+        float out[3];
+        brdf->eval_cos({0.f, 0.f, 1.f}, {0.6f, 0.f, -0.8f}, rgb_query(), out);
+        for (float v : out) EXPECT_EQ(v, 0.f);
+        brdf->eval_cos({0.6f, 0.f, 0.f}, {0.f, 0.f, 1.f}, rgb_query(), out);
+        for (float v : out) EXPECT_EQ(v, 0.f);
+    }
+}
+
+// (e) Linear is continuous, also across phi_d = 0 = pi (the reciprocity fold), where the first
+// and last phi_d bins meet; Nearest on the same walks jumps, which shows the check can fail.
+TEST(MerlBrdf, LinearIsContinuous) {
+    const std::string path = temp_folder().file("smooth.binary");
+    const int n_th = 16, n_td = 12, n_pd = 20;
+    // Smooth in every index and periodic in phi_d, but not symmetric about phi_d = pi/2, so
+    // clamping the phi_d ends instead of wrapping would show as a jump.
+    auto value = [&](int ith, int itd, int ipd) {
+        return 100.0 + 3.0 * ith + 2.0 * itd + 10.0 * std::cos(2 * kPi * (ipd + 0.5) / n_pd + 0.7);
+    };
+    npf::write_merl(path, n_th, n_td, n_pd, [&](int ith, int itd, int ipd, double rgb[3]) {
+        for (int c = 0; c < 3; ++c) rgb[c] = value(ith, itd, ipd);
+    });
+    const auto linear = MerlBrdf::load(path, {MerlLookup::Linear});
+    const auto nearest = MerlBrdf::load(path);
+
+    // Walks in bin coordinates (uh, ud, up) from a start, along one axis, 1e-3 bins a step.
+    struct Walk {
+        double uh, ud, up;
+        int axis;
+        double length;
+    };
+    const Walk walks[] = {
+        {0.1, 2.3, 7.3, 0, 8.0},          // theta_h across several bins, from near the normal
+        {5.6, 0.1, 13.7, 1, 7.0},         // theta_d
+        {3.3, 4.4, n_pd - 2.0, 2, 4.0},   // phi_d through pi (wraps to 0)
+        {3.3, 4.4, -2.0, 2, 4.0},         // phi_d through 0 from negative angles
+    };
+    for (const Walk& walk : walks) {
+        double max_step_linear = 0, max_step_nearest = 0;
+        std::array<double, 3> previous_linear{}, previous_nearest{};
+        const int steps = static_cast<int>(walk.length / 1e-3);
+        for (int i = 0; i <= steps; ++i) {
+            double u[3] = {walk.uh, walk.ud, walk.up};
+            u[walk.axis] += i * 1e-3;
+            const DirectionPair p =
+                pair_from_half_diff(theta_h_at(u[0], n_th), 0.9, theta_d_at(u[1], n_td),
+                                    phi_d_at(u[2], n_pd));
+            ASSERT_GT(p.wo.z, 0.f);
+            ASSERT_GT(p.wi.z, 0.f);
+            const auto l = stored_numbers(*linear, p);
+            const auto n = stored_numbers(*nearest, p);
+            if (i > 0) {
+                max_step_linear = std::max(max_step_linear, std::fabs(l[0] - previous_linear[0]));
+                max_step_nearest =
+                    std::max(max_step_nearest, std::fabs(n[0] - previous_nearest[0]));
+            }
+            previous_linear = l;
+            previous_nearest = n;
+        }
+        // Largest slope: 3 per bin (theta_h) or 10 * 2 pi / 20 = 3.1 per bin (phi_d).
+        EXPECT_LT(max_step_linear, 0.01) << "walk along axis " << walk.axis;
+        EXPECT_GT(max_step_nearest, 0.5) << "walk along axis " << walk.axis;
+    }
+}
+
+// Negative stored numbers mark bins without a measurement: clamped to 0 by default, kept for
+// raw queries; Linear leaves them out of the blend while a valid bin has weight.
+TEST(MerlBrdf, InvalidBins) {
+    const std::string path = temp_folder().file("invalid.binary");
+    const int n_th = 6, n_td = 5, n_pd = 8;
+    npf::write_merl(path, n_th, n_td, n_pd, [&](int, int itd, int, double rgb[3]) {
+        for (int c = 0; c < 3; ++c) rgb[c] = itd == n_td - 1 ? -1.0 : 100.0;
+    });
+    const auto nearest = MerlBrdf::load(path);
+    const auto linear = MerlBrdf::load(path, {MerlLookup::Linear});
+    auto detail = [](const npf::BrdfInfo& info, const std::string& key) {
+        for (const auto& kv : info.details)
+            if (kv.first == key) return kv.second;
+        return std::string("<missing>");
+    };
+    EXPECT_EQ(detail(nearest->info(), "invalid samples"), "48 of 240");
+
+    auto eval = [&](const MerlBrdf& brdf, double ud, bool clamp) {
+        const DirectionPair p = pair_from_half_diff(theta_h_at(0.5, n_th), 0.2,
+                                                    theta_d_at(ud, n_td), phi_d_at(3.5, n_pd));
+        EXPECT_GT(p.wo.z, 0.f);
+        float out[3];
+        brdf.eval_cos(p.wi, p.wo, rgb_query(clamp), out);
+        std::array<double, 3> fr{};
+        for (int c = 0; c < 3; ++c) fr[c] = out[c] / p.wo.z / kScale[c];
+        return fr;
+    };
+    // In the invalid bin.
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(eval(*nearest, 4.5, true)[c], 0.0);
+        EXPECT_NEAR(eval(*nearest, 4.5, false)[c], -1.0, 1e-5);
+        EXPECT_NEAR(eval(*nearest, 3.5, false)[c], 100.0, 1e-4);
+        // Linear between a valid and the invalid centre: the valid value, not a blend with -1.
+        EXPECT_NEAR(eval(*linear, 4.2, false)[c], 100.0, 1e-4);
+        // Beyond the last centre only the invalid bin has weight.
+        EXPECT_NEAR(eval(*linear, 4.8, false)[c], -1.0, 1e-5);
+        EXPECT_EQ(eval(*linear, 4.8, true)[c], 0.0);
+    }
+}
+
+// (h) Also on a table with noisy, partly negative values.
+TEST(MerlBrdf, AlwaysFiniteWithInvalidBins) {
+    const std::string path = temp_folder().file("noisy.binary");
+    npf::testing::Pcg32 rng(37);
+    npf::write_merl(path, 10, 8, 12, [&](int, int, int, double rgb[3]) {
+        for (int c = 0; c < 3; ++c)
+            rgb[c] = rng.next_float() < 0.2f ? -1.0 : 1000.0 * rng.next_float();
+    });
+    check_always_finite(*MerlBrdf::load(path), 41, 25000);
+    check_always_finite(*MerlBrdf::load(path, {MerlLookup::Linear}), 43, 25000);
+}
+
+// ---- Bad input -------------------------------------------------------------------------
+
+void expect_load_error(const std::string& path, const std::vector<std::string>& words) {
+    try {
+        MerlBrdf::load(path);
+        ADD_FAILURE() << "no error for " << path;
+    } catch (const npf::Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(path), std::string::npos) << what;
+        for (const std::string& word : words)
+            EXPECT_NE(what.find(word), std::string::npos) << "'" << word << "' not in: " << what;
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "not an npf::Error: " << e.what();
+    }
+}
+
+void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
+}
+
+std::vector<std::uint8_t> read_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::vector<std::uint8_t> header_bytes(std::int32_t a, std::int32_t b, std::int32_t c) {
+    std::vector<std::uint8_t> bytes;
+    for (std::int32_t v : {a, b, c}) {
+        const auto u = static_cast<std::uint32_t>(v);
+        for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<std::uint8_t>(u >> (8 * i)));
+    }
+    return bytes;
+}
+
+TEST(MerlBrdf, MissingDirectoryEmpty) {
+    expect_load_error(temp_folder().file("does-not-exist.binary"), {"not found"});
+    const std::string folder = temp_folder().file("a-folder.binary");
+    fs::create_directories(folder);
+    expect_load_error(folder, {"directory"});
+    const std::string empty = temp_folder().file("empty.binary");
+    write_bytes(empty, {});
+    expect_load_error(empty, {"empty"});
+}
+
+TEST(MerlBrdf, TruncatedAndOversized) {
+    const std::string good = temp_folder().file("good.binary");
+    npf::write_merl(good, 2, 3, 4,
+                    [](int, int, int, double rgb[3]) { rgb[0] = rgb[1] = rgb[2] = 1; });
+    std::vector<std::uint8_t> bytes = read_bytes(good);
+    ASSERT_EQ(bytes.size(), 12u + 2 * 3 * 4 * 3 * 8);
+    EXPECT_NO_THROW(MerlBrdf::load(good));
+
+    const std::string cut = temp_folder().file("cut.binary");
+    write_bytes(cut, std::vector<std::uint8_t>(bytes.begin(), bytes.end() - 5));
+    expect_load_error(cut, {"truncated", "2 x 3 x 4"});
+
+    const std::string short_header = temp_folder().file("short-header.binary");
+    write_bytes(short_header, std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + 7));
+    expect_load_error(short_header, {"truncated", "header"});
+
+    const std::string longer = temp_folder().file("longer.binary");
+    bytes.push_back(0);
+    write_bytes(longer, bytes);
+    expect_load_error(longer, {"size mismatch"});
+}
+
+TEST(MerlBrdf, BadDimensions) {
+    const std::string zero = temp_folder().file("zero-dim.binary");
+    write_bytes(zero, header_bytes(90, 0, 180));
+    expect_load_error(zero, {"dimensions", "positive"});
+
+    const std::string negative = temp_folder().file("negative-dim.binary");
+    std::vector<std::uint8_t> bytes = header_bytes(-1, -1, 1);
+    bytes.resize(12 + 3 * 8, 0);  // (-1)(-1)(1) = 1 bin would match this size
+    write_bytes(negative, bytes);
+    expect_load_error(negative, {"dimensions", "positive"});
+
+    const std::string huge = temp_folder().file("huge-dim.binary");
+    bytes = header_bytes(2147483647, 2147483647, 2147483647);
+    bytes.resize(64, 0);
+    write_bytes(huge, bytes);
+    expect_load_error(huge, {"dimensions", "too large"});
+
+    EXPECT_THROW(npf::write_merl(temp_folder().file("never.binary"), 0, 1, 1,
+                                 [](int, int, int, double*) {}),
+                 npf::Error);
+    EXPECT_FALSE(fs::exists(temp_folder().file("never.binary")));
+}
+
+TEST(MerlBrdf, NonFiniteValues) {
+    const std::string nan_path = temp_folder().file("nan.binary");
+    npf::write_merl(nan_path, 2, 3, 4, [](int ith, int itd, int ipd, double rgb[3]) {
+        rgb[0] = rgb[1] = rgb[2] = 1.0;
+        if (ith == 1 && itd == 2 && ipd == 3) rgb[1] = std::numeric_limits<double>::quiet_NaN();
+    });
+    expect_load_error(nan_path, {"non-finite", "channel G", "index 23"});
+
+    const std::string inf_path = temp_folder().file("inf.binary");
+    npf::write_merl(inf_path, 2, 3, 4, [](int ith, int itd, int ipd, double rgb[3]) {
+        rgb[0] = rgb[1] = rgb[2] = 1.0;
+        if (ith == 0 && itd == 1 && ipd == 0) rgb[2] = -std::numeric_limits<double>::infinity();
+    });
+    expect_load_error(inf_path, {"non-finite", "channel B", "index 4"});
+
+    const std::string big_path = temp_folder().file("big.binary");
+    npf::write_merl(big_path, 2, 3, 4, [](int ith, int, int, double rgb[3]) {
+        rgb[0] = rgb[1] = rgb[2] = ith == 1 ? 1e300 : 1.0;
+    });
+    expect_load_error(big_path, {"out-of-range", "channel R"});
+}
+
+}  // namespace
