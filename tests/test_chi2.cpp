@@ -305,7 +305,7 @@ TEST(Chi2Toy, GrazingPhongLobeWithFailuresPasses) {
 TEST(Chi2Toy, SharpPhongLobePassesWithFineIntegration) {
     PhongBrdf brdf(3000.f);
     Chi2Options opt = toy_options();
-    opt.integration_resolution = 64;
+    opt.integration_resolution = 16;
     opt.cos_theta_bins = 20;
     opt.phi_bins = 40;
     opt.full_sphere = false;  // the lobe is far from the horizon; halves the quadrature cost

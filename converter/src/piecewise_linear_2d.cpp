@@ -12,11 +12,13 @@ float clamp01(float v) { return std::fmin(std::fmax(v, 0.f), 1.f); }  // NaN -> 
 float lerp(float a, float b, float t) { return a + (b - a) * t; }
 
 // tau in [0,1] with a*tau + (b-a)*tau^2/2 = y: where a linear density ramp from a to b over
-// a unit interval reaches mass y. The near-constant case avoids cancellation.
+// a unit interval reaches mass y. The reference readers use (a - sqrt(D)) / (a - b), with a
+// special case for a ~ b; that form cancels catastrophically in float just past the special
+// case's threshold (errors near 1e-3 in the sampled direction). Multiplying through by the
+// conjugate gives the same root without cancellation and without a special case.
 float ramp_inverse(float a, float b, float y) {
-    if (!(a + b > 0.f)) return 0.f;
-    if (std::fabs(a - b) < 1e-4f * (a + b)) return clamp01(2.f * y / (a + b));
-    return clamp01((a - std::sqrt(std::fmax(0.f, a * a + 2.f * y * (b - a)))) / (a - b));
+    const float denominator = a + std::sqrt(std::fmax(0.f, a * a + 2.f * y * (b - a)));
+    return denominator > 0.f ? clamp01(2.f * y / denominator) : 0.f;
 }
 
 // Largest i in [0, size-2] with pred(i) true, 0 if none; pred must be true then false.

@@ -105,6 +105,14 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
                                  " rad: only the full circle, a half or a quarter (reductions 1, 2, 4) are supported");
         }
         b->m_reduction = reduction;
+        // Folded queries have phi_i in [-pi, -pi + 2 pi / reduction]; a grid elsewhere would be
+        // silently clamped, so it must cover exactly that interval.
+        const float expected_end = -kPi + 2.f * kPi / float(reduction);
+        if (std::fabs(b->m_phi_i.front() + kPi) > 1e-3f || std::fabs(b->m_phi_i.back() - expected_end) > 1e-3f) {
+            throw Error(src, "field 'phi_i' runs from " + std::to_string(b->m_phi_i.front()) + " to " +
+                                 std::to_string(b->m_phi_i.back()) + " rad; reduction " + std::to_string(reduction) +
+                                 " needs it to cover [-pi, " + std::to_string(expected_end) + "]");
+        }
     }
 
     const TensorField& ndf = float_field("ndf", 2);
@@ -153,8 +161,24 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
                              data->shape_string());
     }
 
-    b->m_ndf = PiecewiseLinear2D(ndf.shape[1], ndf.shape[0], 1, file.to_float(ndf), false, src + ": field 'ndf'");
-    b->m_sigma = PiecewiseLinear2D(sigma.shape[1], sigma.shape[0], 1, file.to_float(sigma), false,
+    // A density and a projected area cannot be negative; the reference readers do not check,
+    // but a negative value here would flip the sign of f_r after the channel clamp.
+    auto non_negative = [&](const TensorField& f) {
+        std::vector<float> v = file.to_float(f);
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            if (!std::isfinite(v[i])) {
+                throw Error(src, "field '" + f.name + "' holds a non-finite value (" + std::to_string(v[i]) +
+                                     ") at index " + std::to_string(i));
+            }
+            if (v[i] < 0.f) {
+                throw Error(src, "field '" + f.name + "' holds a negative value (" + std::to_string(v[i]) +
+                                     ") at index " + std::to_string(i));
+            }
+        }
+        return v;
+    };
+    b->m_ndf = PiecewiseLinear2D(ndf.shape[1], ndf.shape[0], 1, non_negative(ndf), false, src + ": field 'ndf'");
+    b->m_sigma = PiecewiseLinear2D(sigma.shape[1], sigma.shape[0], 1, non_negative(sigma), false,
                                    src + ": field 'sigma'");
     b->m_vndf = PiecewiseLinear2D(vndf.shape[3], vndf.shape[2], nP * nT, file.to_float(vndf), true,
                                   src + ": field 'vndf'");
@@ -200,9 +224,9 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
     };
     if (const TensorField* v = file.find("version")) {
         std::vector<double> ver = file.to_double(*v);
-        std::string s;
-        for (std::size_t i = 0; i < ver.size() && i < 4; ++i) s += (i ? "." : "") + std::to_string(long(ver[i]));
-        info.details.emplace_back("measurement version", s);
+        std::ostringstream s;
+        for (std::size_t i = 0; i < ver.size() && i < 4; ++i) s << (i ? "." : "") << ver[i];
+        info.details.emplace_back("measurement version", s.str());
     }
     info.details.emplace_back("anisotropy", b->m_isotropic ? "isotropic"
                                             : "anisotropic, reduction " + std::to_string(b->m_reduction));

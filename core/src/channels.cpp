@@ -70,6 +70,10 @@ ChannelQuery make_channel_query(const Channels& stored, const Channels& requeste
 
 std::vector<float> parse_wavelength_list(const std::string& text, const std::string& what) {
     auto number = [&](const std::string& s) {
+        // Plain decimal numbers only: strtod alone would also take hex, "inf" and spaces.
+        if (s.find_first_not_of("0123456789.eE+-") != std::string::npos) {
+            throw Error(what, "'" + s + "' in wavelength list '" + text + "' is not a positive number (nm)");
+        }
         char* end = nullptr;
         double v = std::strtod(s.c_str(), &end);
         if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v) || v <= 0.0) {
@@ -79,6 +83,7 @@ std::vector<float> parse_wavelength_list(const std::string& text, const std::str
         return v;
     };
     std::vector<float> out;
+    if (text.empty()) throw Error(what, "empty wavelength list");
     if (text.find(':') != std::string::npos) {
         std::vector<std::string> parts;
         std::stringstream ss(text);
@@ -100,9 +105,13 @@ std::vector<float> parse_wavelength_list(const std::string& text, const std::str
         }
         return out;
     }
-    std::stringstream ss(text);
-    for (std::string p; std::getline(ss, p, ',');) out.push_back(float(number(p)));
-    if (out.empty()) throw Error(what, "empty wavelength list");
+    std::size_t begin = 0;
+    while (true) {  // every comma separates two numbers: "450,", ",450" and "" are errors
+        const std::size_t comma = text.find(',', begin);
+        out.push_back(float(number(text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin))));
+        if (comma == std::string::npos) break;
+        begin = comma + 1;
+    }
     return out;
 }
 

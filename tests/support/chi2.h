@@ -65,9 +65,11 @@ struct Chi2Options {
     std::uint64_t sample_count = 1000000;
     std::uint64_t seed = 0x5eed5eed12345678ULL;
 
-    // Midpoint-rule sub-cells per cell and axis for integrating pdf(). Raise it for sharp
-    // (near-mirror) lobes: the quadrature error shows up as a chi-square excess.
-    int integration_resolution = 24;
+    // Sub-cells per cell and axis for integrating pdf() (in s = sqrt(1 - cos theta), phi),
+    // each refined adaptively up to integration_max_depth times where the pdf varies sharply.
+    // Raise the resolution for very sharp lobes that the initial points could miss entirely.
+    int integration_resolution = 8;
+    int integration_max_depth = 6;
 
     // Cells with an expected count below this are pooled.
     double min_expected = 5.0;

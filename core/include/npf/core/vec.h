@@ -25,7 +25,13 @@ struct Vec3 {
 
 inline float dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline float length(const Vec3& a) { return std::sqrt(dot(a, a)); }
-inline Vec3 normalize(const Vec3& a) { return a * (1.f / length(a)); }
+// Divides rather than multiplying by the reciprocal: normalize((0, 0, 2z)) must give z = 1
+// exactly, or the half vector of an exact mirror pair leaves the pole and the square-root
+// warp (u = sqrt(2 theta / pi)) magnifies the 1-ulp error into a visibly different pdf.
+inline Vec3 normalize(const Vec3& a) {
+    const float l = length(a);
+    return {a.x / l, a.y / l, a.z / l};
+}
 
 // Angle between w and the normal (0,0,1). acos(w.z) loses all precision near the normal;
 // 2 asin(|w - n| / 2) does not (it is what the RGL reference readers use). Expects |w| = 1.

@@ -1,0 +1,320 @@
+#include "synthetic_rgl.h"
+
+#include <npf/core/error.h>
+#include <npf/core/vec.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <initializer_list>
+#include <stdexcept>
+#include <sys/stat.h>
+
+namespace npf::testing {
+
+namespace {
+
+constexpr double kPi = npf::kPiD;
+
+// Node coordinate c / (n - 1) on [0, 1]; a grid of one node sits at 0.
+double node(int c, int n) { return n > 1 ? double(c) / double(n - 1) : 0.0; }
+
+struct Dir {
+    double x, y, z;
+};
+
+Dir direction(double theta, double phi) {
+    const double s = std::sin(theta);
+    return {s * std::cos(phi), s * std::sin(phi), std::cos(theta)};
+}
+
+// Anisotropic GGX (Trowbridge-Reitz) normal distribution, normalised so that
+// integral D(m) cos(theta_m) dm = 1. Written as (cos^2 + sin^2 a)^2 so that it stays finite
+// at theta = pi/2.
+double ggx_d(double theta, double phi, double ax, double ay) {
+    const double c = std::cos(theta), s = std::sin(theta);
+    const double cp = std::cos(phi), sp = std::sin(phi);
+    const double a = cp * cp / (ax * ax) + sp * sp / (ay * ay);
+    const double q = c * c + s * s * a;
+    return 1.0 / (kPi * ax * ay * q * q);
+}
+
+// Projected area of the GGX microsurface seen from (theta, phi): cos(theta) (1 + Lambda),
+// exact for the Smith model: 1 at the normal, alpha(phi) / 2 at grazing angles.
+double ggx_sigma(double theta, double phi, double ax, double ay) {
+    const double c = std::cos(theta), s = std::sin(theta);
+    const double cp = std::cos(phi), sp = std::sin(phi);
+    const double alpha2 = cp * cp * ax * ax + sp * sp * ay * ay;
+    return 0.5 * (c + std::sqrt(c * c + alpha2 * s * s));
+}
+
+void check_spec(const SyntheticRglSpec& spec) {
+    if (spec.phi_count < 1 || spec.theta_count < 1 || spec.ndf_size < 1 || spec.vndf_size < 1 ||
+        spec.data_size < 1 || spec.reduction < 1) {
+        throw std::invalid_argument("SyntheticRglSpec: counts, sizes and reduction must be >= 1");
+    }
+    if (!(spec.alpha_x > 0.f) || !(spec.alpha_y > 0.f)) {
+        throw std::invalid_argument("SyntheticRglSpec: alpha_x and alpha_y must be positive");
+    }
+    if (spec.spectral && spec.wavelengths.empty()) {
+        throw std::invalid_argument("SyntheticRglSpec: a spectral file needs wavelengths");
+    }
+}
+
+std::vector<std::uint64_t> u64_shape(std::initializer_list<int> dims) {
+    std::vector<std::uint64_t> s;
+    for (int d : dims) s.push_back(std::uint64_t(d));
+    return s;
+}
+
+SyntheticField f32_field(const std::string& name, std::vector<std::uint64_t> shape,
+                         const std::vector<float>& values) {
+    SyntheticField f;
+    f.name = name;
+    f.shape = std::move(shape);
+    f.set_floats(values);
+    return f;
+}
+
+SyntheticField u8_field(const std::string& name, std::vector<std::uint64_t> shape,
+                        std::vector<std::uint8_t> values) {
+    SyntheticField f;
+    f.name = name;
+    f.dtype = DType::U8;
+    f.shape = std::move(shape);
+    f.bytes = std::move(values);
+    return f;
+}
+
+}  // namespace
+
+std::vector<float> SyntheticField::floats() const {
+    if (dtype != DType::F32) throw std::logic_error("SyntheticField::floats: field '" + name + "' is not f32");
+    std::vector<float> v(bytes.size() / 4);
+    if (!v.empty()) std::memcpy(v.data(), bytes.data(), v.size() * 4);
+    return v;
+}
+
+void SyntheticField::set_floats(const std::vector<float>& v) {
+    dtype = DType::F32;
+    bytes.resize(v.size() * 4);
+    if (!v.empty()) std::memcpy(bytes.data(), v.data(), bytes.size());
+}
+
+std::vector<SyntheticField> synthetic_rgl_fields(const SyntheticRglSpec& spec) {
+    check_spec(spec);
+    const bool isotropic = spec.phi_count <= 2;
+    const int nP = spec.phi_count, nT = spec.theta_count;
+    const int V = spec.vndf_size, S = spec.data_size;
+    const int ndf_rows = isotropic ? 2 : spec.ndf_size, ndf_cols = spec.ndf_size;
+    const double ax = spec.alpha_x, ay = spec.alpha_y;
+    // An isotropic file needs an azimuth-independent NDF.
+    const double iso_alpha = 0.5 * (ax + ay);
+    const double dax = isotropic ? iso_alpha : ax, day = isotropic ? iso_alpha : ay;
+
+    // Incident grids. Anisotropic: -pi .. -pi + 2 pi / reduction inclusive, the interval that
+    // folded queries land in (docs/rgl-format.md sec. 7).
+    std::vector<float> phi_i;
+    if (nP == 1) {
+        phi_i = {0.f};
+    } else if (nP == 2) {
+        phi_i = {float(-kPi), float(kPi)};
+    } else {
+        const double span = 2.0 * kPi / double(spec.reduction);
+        for (int k = 0; k < nP; ++k) phi_i.push_back(float(-kPi + span * node(k, nP)));
+    }
+    std::vector<float> theta_i;
+    for (int l = 0; l < nT; ++l) theta_i.push_back(float(0.5 * kPi * node(l, nT)));
+
+    // ndf and sigma in u-space: rows u_phi, columns u_theta.
+    std::vector<float> ndf(std::size_t(ndf_rows) * ndf_cols), sigma(ndf.size());
+    for (int r = 0; r < ndf_rows; ++r) {
+        const double phi = (2.0 * node(r, ndf_rows) - 1.0) * kPi;
+        for (int c = 0; c < ndf_cols; ++c) {
+            const double u = node(c, ndf_cols), theta = 0.5 * kPi * u * u;
+            ndf[std::size_t(r) * ndf_cols + c] = float(ggx_d(theta, phi, dax, day));
+            sigma[std::size_t(r) * ndf_cols + c] = float(ggx_sigma(theta, phi, dax, day));
+        }
+    }
+
+    // vndf per incident slice (W4 of the format notes): max(0, wi.m) D(m) / sigma(wi) times the
+    // u-space Jacobian 2 pi^2 u sin(theta_m), plus a tiny floor so no slice is all zero.
+    const std::size_t vplane = std::size_t(V) * V;
+    std::vector<float> vndf(std::size_t(nP) * nT * vplane);
+    for (int k = 0; k < nP; ++k) {
+        for (int l = 0; l < nT; ++l) {
+            const Dir wi = direction(theta_i[std::size_t(l)], phi_i[std::size_t(k)]);
+            const double s_i = ggx_sigma(theta_i[std::size_t(l)], phi_i[std::size_t(k)], dax, day);
+            float* slice = vndf.data() + (std::size_t(k) * nT + l) * vplane;
+            double peak = 0.0;
+            for (int r = 0; r < V; ++r) {
+                double phi_m = (2.0 * node(r, V) - 1.0) * kPi;
+                if (isotropic) phi_m += phi_i[std::size_t(k)];
+                for (int c = 0; c < V; ++c) {
+                    const double u = node(c, V), theta_m = 0.5 * kPi * u * u;
+                    const Dir m = direction(theta_m, phi_m);
+                    const double cosine = std::max(0.0, wi.x * m.x + wi.y * m.y + wi.z * m.z);
+                    const double v = cosine * ggx_d(theta_m, phi_m, dax, day) / s_i * 2.0 * kPi * kPi * u *
+                                     std::sin(theta_m);
+                    slice[std::size_t(r) * V + c] = float(v);
+                    peak = std::max(peak, v);
+                }
+            }
+            const float floor = float(1e-5 * peak + 1e-9);
+            for (std::size_t i = 0; i < vplane; ++i) slice[i] += floor;
+        }
+    }
+
+    // Data: a smooth positive pattern varying with channel, node and incident slice, with a
+    // diffuse floor; RGB blue dips below zero around xi = (0.3, 0.5) (out-of-gamut values).
+    const std::size_t nC = spec.spectral ? spec.wavelengths.size() : 3;
+    const std::size_t dplane = std::size_t(S) * S;
+    std::vector<float> data(std::size_t(nP) * nT * nC * dplane);
+    std::vector<float> lum(std::size_t(nP) * nT * dplane);
+    const double rgb_scale[3] = {0.8, 0.5, 0.3};
+    for (int k = 0; k < nP; ++k) {
+        for (int l = 0; l < nT; ++l) {
+            double slice_factor = 1.0 - 0.3 * node(l, nT);
+            if (!isotropic) slice_factor += 0.1 * std::cos(double(phi_i[std::size_t(k)]));
+            const std::size_t base = (std::size_t(k) * nT + l);
+            for (std::size_t ch = 0; ch < nC; ++ch) {
+                double scale, wiggle;
+                if (spec.spectral) {
+                    const double lambda = spec.wavelengths[ch];
+                    scale = 0.25 + 0.6 * std::clamp((lambda - 350.0) / 400.0, 0.0, 1.0);
+                    wiggle = 0.15 * std::sin(lambda / 47.0);
+                } else {
+                    scale = rgb_scale[ch];
+                    wiggle = 0.1 * double(ch);
+                }
+                float* plane = data.data() + (base * nC + ch) * dplane;
+                for (int r = 0; r < S; ++r) {
+                    const double y = node(r, S);
+                    for (int c = 0; c < S; ++c) {
+                        const double x = node(c, S);
+                        double v = 0.1 + 0.55 * (1.0 - 0.5 * x) + 0.2 * std::cos(2.0 * kPi * y + wiggle) * (1.0 - x) +
+                                   wiggle * x * y;
+                        v *= scale * slice_factor;
+                        if (!spec.spectral && ch == 2) {
+                            const double d = std::hypot(x - 0.3, y - 0.5);
+                            v -= 1.6 * scale * std::max(0.0, 1.0 - d / 0.3);
+                        }
+                        plane[std::size_t(r) * S + c] = float(v);
+                    }
+                }
+            }
+            // Luminance of the data, floored so that it stays a positive density.
+            float* lplane = lum.data() + base * dplane;
+            const float* d0 = data.data() + base * nC * dplane;
+            float peak = 0.f;
+            for (std::size_t i = 0; i < dplane; ++i) {
+                double y;
+                if (spec.spectral) {
+                    y = 0.0;
+                    for (std::size_t ch = 0; ch < nC; ++ch) y += d0[ch * dplane + i];
+                    y /= double(nC);
+                } else {
+                    y = 0.2126 * d0[i] + 0.7152 * d0[dplane + i] + 0.0722 * d0[2 * dplane + i];
+                }
+                lplane[i] = float(y);
+                peak = std::max(peak, lplane[i]);
+            }
+            const float floor = std::max(1e-3f * peak, 1e-6f);
+            for (std::size_t i = 0; i < dplane; ++i) lplane[i] = std::max(lplane[i], floor);
+        }
+    }
+
+    std::vector<SyntheticField> fields;
+    fields.push_back(u8_field("description", {std::uint64_t(spec.description.size())},
+                              std::vector<std::uint8_t>(spec.description.begin(), spec.description.end())));
+    fields.push_back(u8_field("jacobian", {1}, {std::uint8_t(spec.jacobian ? 1 : 0)}));
+    fields.push_back(f32_field("phi_i", u64_shape({nP}), phi_i));
+    fields.push_back(f32_field("theta_i", u64_shape({nT}), theta_i));
+    fields.push_back(f32_field("ndf", u64_shape({ndf_rows, ndf_cols}), ndf));
+    fields.push_back(f32_field("sigma", u64_shape({ndf_rows, ndf_cols}), sigma));
+    fields.push_back(f32_field("vndf", u64_shape({nP, nT, V, V}), vndf));
+    fields.push_back(f32_field("luminance", u64_shape({nP, nT, S, S}), lum));
+    if (spec.spectral) {
+        fields.push_back(f32_field("wavelengths", {std::uint64_t(nC)}, spec.wavelengths));
+        fields.push_back(f32_field("spectra", u64_shape({nP, nT, int(nC), S, S}), data));
+    } else {
+        fields.push_back(f32_field("rgb", u64_shape({nP, nT, 3, S, S}), data));
+    }
+    return fields;
+}
+
+TensorFileWriter to_writer(const std::vector<SyntheticField>& fields) {
+    TensorFileWriter w;
+    for (const SyntheticField& f : fields) {
+        std::uint64_t count = 1;
+        for (std::uint64_t e : f.shape) {
+            if (__builtin_mul_overflow(count, e, &count)) {
+                throw std::invalid_argument("to_writer: field '" + f.name + "' shape overflows");
+            }
+        }
+        const std::uint64_t step = dtype_size(f.dtype);
+        if (step == 0 || count > f.bytes.size() / step || count * step != f.bytes.size()) {
+            throw std::invalid_argument("to_writer: field '" + f.name +
+                                        "' payload size does not match its shape and dtype");
+        }
+        w.add(f.name, f.dtype, f.shape, f.bytes.data());
+    }
+    return w;
+}
+
+SyntheticField* find_field(std::vector<SyntheticField>& fields, const std::string& name) {
+    for (SyntheticField& f : fields) {
+        if (f.name == name) return &f;
+    }
+    return nullptr;
+}
+
+bool remove_field(std::vector<SyntheticField>& fields, const std::string& name) {
+    auto it = std::find_if(fields.begin(), fields.end(), [&](const SyntheticField& f) { return f.name == name; });
+    if (it == fields.end()) return false;
+    fields.erase(it);
+    return true;
+}
+
+TensorFileWriter make_synthetic_rgl(const SyntheticRglSpec& spec) {
+    return to_writer(synthetic_rgl_fields(spec));
+}
+
+std::string write_synthetic_rgl(const SyntheticRglSpec& spec, const std::string& path) {
+    make_synthetic_rgl(spec).write(path);
+    return path;
+}
+
+std::string temporary_folder(const std::string& tag) {
+    const char* env = std::getenv("TMPDIR");
+    std::string root = env && *env ? env : "/tmp";
+    while (root.size() > 1 && root.back() == '/') root.pop_back();
+    std::string safe;
+    for (char ch : tag) {
+        const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
+                        ch == '-' || ch == '_' || ch == '.';
+        safe += ok ? ch : '_';
+    }
+    if (safe.empty()) safe = "test";
+    std::string pattern = root + "/npf-" + safe + "-XXXXXX";
+    std::vector<char> buf(pattern.begin(), pattern.end());
+    buf.push_back('\0');
+    if (!::mkdtemp(buf.data())) {
+        throw npf::Error(pattern, std::string("cannot create temporary folder: ") + std::strerror(errno));
+    }
+    return std::string(buf.data());
+}
+
+std::string shared_data_file(const std::string& relative) {
+    const char* env = std::getenv("NPF_SHARED_DATA");
+    std::string dir = env && *env ? env : NPF_SHARED_DATA_DIR;
+    if (dir.empty()) return "";
+    std::string path = dir + (dir.back() == '/' ? "" : "/") + relative;
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return "";
+    return path;
+}
+
+}  // namespace npf::testing
