@@ -493,6 +493,31 @@ TEST(CliEval, CosIsFrTimesCosThetaO) {
     }
 }
 
+TEST(CliEval, PdfColumnIsTheSamplingDensity) {
+    const std::vector<Pair> pairs = random_pairs(30, 8);
+    const std::string m = materials().rgb_aniso;
+    const std::string dirs = folder() + "/pdf_pairs.txt";
+    write_text(dirs, format_pairs(pairs));
+    const ToolRun r = run_npf({"eval", m, "--dirs", dirs, "--cos", "--pdf"});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const EvalOutput e = parse_eval(r.out);
+    EXPECT_EQ(e.header, "# R G B pdf");
+    ASSERT_EQ(e.values.size(), pairs.size()) << describe(r);
+    const std::unique_ptr<RglBrdf> brdf = RglBrdf::load(m);
+    int positive = 0;
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+        ASSERT_EQ(e.values[i].size(), 4u) << describe(r);
+        const Pair& p = pairs[i];
+        const double li = std::sqrt(p.v[0] * p.v[0] + p.v[1] * p.v[1] + p.v[2] * p.v[2]);
+        const double lo = std::sqrt(p.v[3] * p.v[3] + p.v[4] * p.v[4] + p.v[5] * p.v[5]);
+        const double want = brdf->pdf(Vec3(float(p.v[0] / li), float(p.v[1] / li), float(p.v[2] / li)),
+                                      Vec3(float(p.v[3] / lo), float(p.v[4] / lo), float(p.v[5] / lo)));
+        EXPECT_NEAR(e.values[i][3], want, 1e-7 * want + 1e-30) << "pair " << i;
+        positive += want > 0.0;
+    }
+    EXPECT_GT(positive, 20);
+}
+
 TEST(CliEval, WavelengthListInterpolatesLinearly) {
     const std::string m = materials().spectral;
     const std::vector<Pair> pairs = random_pairs(25, 7);

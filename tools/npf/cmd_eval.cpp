@@ -24,11 +24,12 @@ const std::vector<FlagSpec> kFlags = {
     {"--cos", false, "print f_r cos(theta_o) = f_r * wo.z (the RGL reference readers' convention)"},
     {"--wavelengths", true, "spectral files: evaluate at '450,550,650' or 'start:end:count' (nm)"},
     {"--raw", false, "keep negative values (out-of-gamut RGB) instead of clamping them to 0"},
+    {"--pdf", false, "append a column 'pdf': the density (1/sr) with which the material samples wo given wi"},
     {"--help", false, "show this help"},
 };
 
 const char* kHelp =
-    "usage: npf eval FILE [--dirs PATH|-] [--cos] [--wavelengths LIST] [--raw]\n\n"
+    "usage: npf eval FILE [--dirs PATH|-] [--cos] [--wavelengths LIST] [--raw] [--pdf]\n\n"
     "Directions are in the local frame (z the normal, x the tangent), both pointing away from the\n"
     "surface, and are normalised on reading; lines starting with '#' and blank lines are skipped.\n"
     "Output: a header '# ' with the channel names (R G B) or wavelengths (nm), then one line per\n"
@@ -74,6 +75,7 @@ int run_eval(const std::vector<std::string>& args) {
     ChannelQuery query = brdf->query(channels);
     query.clamp_negative = !cl.has("--raw");
     const bool with_cos = cl.has("--cos");
+    const bool with_pdf = cl.has("--pdf");
 
     const std::string dirs = cl.value("--dirs", "-");
     std::ifstream file;
@@ -87,7 +89,7 @@ int run_eval(const std::vector<std::string>& args) {
     std::istream& in = dirs == "-" ? std::cin : file;
     const std::string dirs_name = dirs == "-" ? "<stdin>" : dirs;
 
-    std::string out = "# " + channels.describe() + "\n";
+    std::string out = "# " + channels.describe() + (with_pdf ? " pdf" : "") + "\n";
     std::vector<float> values(query.size());
     std::string line;
     char buf[64];
@@ -110,6 +112,10 @@ int run_eval(const std::vector<std::string>& args) {
             double value = values[k];
             if (!with_cos) value = wo.z > 0.f ? value / double(wo.z) : 0.0;
             std::snprintf(buf, sizeof(buf), k ? " %.9g" : "%.9g", value);
+            out += buf;
+        }
+        if (with_pdf) {
+            std::snprintf(buf, sizeof(buf), " %.9g", double(brdf->pdf(wi, wo)));
             out += buf;
         }
         out += '\n';
