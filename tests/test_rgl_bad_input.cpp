@@ -833,11 +833,11 @@ TEST(RglBadInputValidFiles, EveryKindLoadsAndDescribesItself) {
             }
             bool found = false;
             for (const auto& [key, value] : info->details) {
-                if (key != "anisotropy") continue;
+                if (key != "phi_i reduction") continue;
                 found = true;
-                EXPECT_EQ(value, isotropic ? "isotropic" : "anisotropic, reduction " + std::to_string(k.reduction));
+                EXPECT_EQ(value, std::to_string(k.reduction) + " (phi_i covers 2 pi / " + std::to_string(k.reduction) + ")");
             }
-            EXPECT_TRUE(found) << "no 'anisotropy' detail";
+            EXPECT_EQ(found, !isotropic) << "'phi_i reduction' detail is for anisotropic files only";
         }
 
         // Evaluation, pdf and sampling give finite, non-negative results over the hemisphere.
@@ -890,9 +890,9 @@ TEST(RglBadInputValidFiles, OptionalFieldsAndUnknownFields) {
     EXPECT_EQ(b->info().description, "");
     bool saw_valid = false, saw_jacobian = false;
     for (const auto& [key, value] : b->info().details) {
-        if (key == "valid nodes") {
+        if (key == "valid mask") {
             saw_valid = true;
-            EXPECT_EQ(value, "29 of 48");
+            EXPECT_EQ(value, "29 of 48 bits set (not used by evaluation)");
         }
         if (key == "jacobian") {
             saw_jacobian = true;

@@ -228,8 +228,10 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
         for (std::size_t i = 0; i < ver.size() && i < 4; ++i) s << (i ? "." : "") << ver[i];
         info.details.emplace_back("measurement version", s.str());
     }
-    info.details.emplace_back("anisotropy", b->m_isotropic ? "isotropic"
-                                            : "anisotropic, reduction " + std::to_string(b->m_reduction));
+    if (!b->m_isotropic) {
+        info.details.emplace_back("phi_i reduction", std::to_string(b->m_reduction) + " (phi_i covers 2 pi / " +
+                                                         std::to_string(b->m_reduction) + ")");
+    }
     info.details.emplace_back("phi_i", std::to_string(nP) + " values: " + join_floats(b->m_phi_i, 5));
     info.details.emplace_back("theta_i", std::to_string(nT) + " values: " + join_floats(b->m_theta_i, 5));
     info.details.emplace_back("data grid", grid(*data) + " (" + data->name + ")");
@@ -242,7 +244,8 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
         std::uint64_t set = 0;
         const std::uint8_t* bits = file.payload(*valid);
         for (std::uint64_t i = 0; i < nodes && i / 8 < valid->byte_size(); ++i) set += (bits[i / 8] >> (7 - i % 8)) & 1u;
-        info.details.emplace_back("valid nodes", std::to_string(set) + " of " + std::to_string(nodes));
+        info.details.emplace_back("valid mask", std::to_string(set) + " of " + std::to_string(nodes) +
+                                                      " bits set (not used by evaluation)");
     }
     return b;
 }
