@@ -36,18 +36,9 @@ using npf::testing::SyntheticRglSpec;
 // ---- Running the tool ---------------------------------------------------------------------
 
 // One folder per test process, removed at exit (kept if NPF_KEEP_TEST_FILES is set).
-struct TemporaryFolder {
-    std::string path;
-    ~TemporaryFolder() {
-        if (std::getenv("NPF_KEEP_TEST_FILES")) return;
-        std::error_code ec;
-        std::filesystem::remove_all(path, ec);
-    }
-};
-
 const std::string& folder() {
-    static const TemporaryFolder dir{npf::testing::temporary_folder("cli")};
-    return dir.path;
+    static const std::string dir = npf::testing::temporary_folder("cli");
+    return dir;
 }
 
 std::string read_text(const std::string& path) {

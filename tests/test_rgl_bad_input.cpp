@@ -47,18 +47,9 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // ---- Helpers ------------------------------------------------------------------------------
 
 // One folder per test process, removed at exit (kept if NPF_KEEP_TEST_FILES is set).
-struct TemporaryFolder {
-    std::string path;
-    ~TemporaryFolder() {
-        if (std::getenv("NPF_KEEP_TEST_FILES")) return;
-        std::error_code ec;
-        std::filesystem::remove_all(path, ec);
-    }
-};
-
 const std::string& folder() {
-    static const TemporaryFolder dir{npf::testing::temporary_folder("rgl-bad-input")};
-    return dir.path;
+    static const std::string dir = npf::testing::temporary_folder("rgl-bad-input");
+    return dir;
 }
 
 std::string write_bytes(const std::string& name, const Bytes& bytes) {

@@ -333,32 +333,41 @@ std::vector<double> NaiveRgl::data_values(double xi_x, double xi_y, double phi_i
     return out;
 }
 
+NaiveRgl::Lookup NaiveRgl::lookup(const Vec3d& wi_in, const Vec3d& wo_in,
+                                  const NaivePerturbation& perturb) const {
+    Lookup l;
+    const Flips flips = isotropic ? Flips{} : fold_flips(wi_in, reduction);
+    l.wi = apply_flips(wi_in, flips);
+    const Vec3d wo = apply_flips(wo_in, flips);
+    l.wh = normalized({l.wi.x + wo.x, l.wi.y + wo.y, l.wi.z + wo.z});
+
+    l.theta_i = elevation(l.wi);
+    l.phi_i = azimuth(l.wi);
+    const double th_h = elevation(l.wh);
+    double ph_h = azimuth(l.wh);
+    if (isotropic) ph_h -= l.phi_i;
+    l.uh_y = (ph_h + kPi) / (2.0 * kPi);
+    l.uh_y -= std::floor(l.uh_y);
+    l.uh_y += perturb.uh_y;
+    l.uh_x = u_theta_of(th_h) + perturb.uh_x;
+    l.ui_x = u_theta_of(l.theta_i);
+    l.ui_y = (l.phi_i + kPi) / (2.0 * kPi);
+
+    m_vndf.invert(l.uh_x, l.uh_y, {l.phi_i, l.theta_i}, l.xi_x, l.xi_y, l.vndf_density);
+    l.xi_x += perturb.xi_x;
+    l.xi_y += perturb.xi_y;
+    return l;
+}
+
 std::vector<double> NaiveRgl::eval_cos(const Vec3d& wi_in, const Vec3d& wo_in,
                                        const std::vector<double>& wavelengths, bool clamp,
                                        const NaivePerturbation& perturb) const {
     const std::size_t n = channel_params(wavelengths).size();
     if (wi_in.z <= 0.0 || wo_in.z <= 0.0) return std::vector<double>(n, 0.0);
-    const Flips flips = isotropic ? Flips{} : fold_flips(wi_in, reduction);
-    const Vec3d wi = apply_flips(wi_in, flips), wo = apply_flips(wo_in, flips);
-    const Vec3d wh = normalized({wi.x + wo.x, wi.y + wo.y, wi.z + wo.z});
-
-    const double th_i = elevation(wi), ph_i = azimuth(wi);
-    const double th_h = elevation(wh);
-    double ph_h = azimuth(wh);
-    if (isotropic) ph_h -= ph_i;
-    double uh_y = (ph_h + kPi) / (2.0 * kPi);
-    uh_y -= std::floor(uh_y);
-    uh_y += perturb.uh_y;
-    const double uh_x = u_theta_of(th_h) + perturb.uh_x;
-    const double ui_x = u_theta_of(th_i), ui_y = (ph_i + kPi) / (2.0 * kPi);
-
-    double xi_x = 0.0, xi_y = 0.0, dens = 0.0;
-    m_vndf.invert(uh_x, uh_y, {ph_i, th_i}, xi_x, xi_y, dens);
-    xi_x += perturb.xi_x;
-    xi_y += perturb.xi_y;
-    std::vector<double> S = data_values(xi_x, xi_y, ph_i, th_i, wavelengths, clamp);
+    const Lookup l = lookup(wi_in, wo_in, perturb);
+    std::vector<double> S = data_values(l.xi_x, l.xi_y, l.phi_i, l.theta_i, wavelengths, clamp);
     if (jacobian) {
-        const double factor = m_ndf.eval(uh_x, uh_y, {}) / (4.0 * m_sigma.eval(ui_x, ui_y, {}));
+        const double factor = m_ndf.eval(l.uh_x, l.uh_y, {}) / (4.0 * m_sigma.eval(l.ui_x, l.ui_y, {}));
         for (double& v : S) v *= factor;
     }
     return S;
@@ -367,28 +376,12 @@ std::vector<double> NaiveRgl::eval_cos(const Vec3d& wi_in, const Vec3d& wo_in,
 double NaiveRgl::pdf(const Vec3d& wi_in, const Vec3d& wo_in,
                      const NaivePerturbation& perturb) const {
     if (wi_in.z <= 0.0 || wo_in.z <= 0.0) return 0.0;
-    const Flips flips = isotropic ? Flips{} : fold_flips(wi_in, reduction);
-    const Vec3d wi = apply_flips(wi_in, flips), wo = apply_flips(wo_in, flips);
-    const Vec3d wh = normalized({wi.x + wo.x, wi.y + wo.y, wi.z + wo.z});
-
-    const double th_i = elevation(wi), ph_i = azimuth(wi);
-    const double th_h = elevation(wh);
-    double ph_h = azimuth(wh);
-    if (isotropic) ph_h -= ph_i;
-    double uh_y = (ph_h + kPi) / (2.0 * kPi);
-    uh_y -= std::floor(uh_y);
-    uh_y += perturb.uh_y;
-    const double uh_x = u_theta_of(th_h) + perturb.uh_x;
-
-    double xi_x = 0.0, xi_y = 0.0, pV = 0.0;
-    m_vndf.invert(uh_x, uh_y, {ph_i, th_i}, xi_x, xi_y, pV);
-    xi_x += perturb.xi_x;
-    xi_y += perturb.xi_y;
-    const double pL = m_luminance.eval(xi_x, xi_y, {ph_i, th_i});
-    const double J = std::max(2.0 * kPi * kPi * uh_x * std::sqrt(wh.x * wh.x + wh.y * wh.y),
+    const Lookup l = lookup(wi_in, wo_in, perturb);
+    const double pL = m_luminance.eval(l.xi_x, l.xi_y, {l.phi_i, l.theta_i});
+    const double J = std::max(2.0 * kPi * kPi * l.uh_x * std::sqrt(l.wh.x * l.wh.x + l.wh.y * l.wh.y),
                               1e-6) *
-                     4.0 * dot(wi, wh);
-    return pV * pL / J;
+                     4.0 * dot(l.wi, l.wh);
+    return l.vndf_density * pL / J;
 }
 
 bool NaiveRgl::sample(const Vec3d& wi_in, double u1, double u2, Vec3d& wo_out, double& pdf_out,

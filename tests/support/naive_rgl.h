@@ -106,6 +106,16 @@ public:
     std::vector<double> phi_i, theta_i, stored_wavelengths;
 
 private:
+    // The published algorithm's steps shared by eval_cos and pdf: fold, half vector, angles,
+    // u-space coordinates and the VNDF inversion.
+    struct Lookup {
+        Vec3d wi, wh;
+        double theta_i = 0, phi_i = 0;
+        double uh_x = 0, uh_y = 0, ui_x = 0, ui_y = 0;
+        double xi_x = 0, xi_y = 0, vndf_density = 0;
+    };
+    Lookup lookup(const Vec3d& wi_in, const Vec3d& wo_in, const NaivePerturbation& perturb) const;
+
     std::vector<double> channel_params(const std::vector<double>& wavelengths) const;
     std::vector<double> data_values(double xi_x, double xi_y, double phi_in, double theta_in,
                                     const std::vector<double>& wavelengths, bool clamp) const;

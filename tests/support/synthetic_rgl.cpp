@@ -8,7 +8,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <initializer_list>
+#include <mutex>
 #include <stdexcept>
 #include <sys/stat.h>
 
@@ -287,6 +289,25 @@ std::string write_synthetic_rgl(const SyntheticRglSpec& spec, const std::string&
     return path;
 }
 
+namespace {
+// Folders handed out by temporary_folder, removed when the test process exits.
+struct FolderRegistry {
+    std::mutex mutex;
+    std::vector<std::string> folders;
+    ~FolderRegistry() {
+        if (std::getenv("NPF_KEEP_TEST_FILES")) return;
+        for (const std::string& f : folders) {
+            std::error_code ec;
+            std::filesystem::remove_all(f, ec);
+        }
+    }
+};
+FolderRegistry& folder_registry() {
+    static FolderRegistry registry;
+    return registry;
+}
+}  // namespace
+
 std::string temporary_folder(const std::string& tag) {
     const char* env = std::getenv("TMPDIR");
     std::string root = env && *env ? env : "/tmp";
@@ -304,7 +325,10 @@ std::string temporary_folder(const std::string& tag) {
     if (!::mkdtemp(buf.data())) {
         throw npf::Error(pattern, std::string("cannot create temporary folder: ") + std::strerror(errno));
     }
-    return std::string(buf.data());
+    FolderRegistry& registry = folder_registry();
+    std::lock_guard<std::mutex> lock(registry.mutex);
+    registry.folders.emplace_back(buf.data());
+    return registry.folders.back();
 }
 
 std::string shared_data_file(const std::string& relative) {

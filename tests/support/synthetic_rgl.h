@@ -56,8 +56,8 @@ SyntheticField* find_field(std::vector<SyntheticField>& fields, const std::strin
 // Removes the named field; returns false if there was none.
 bool remove_field(std::vector<SyntheticField>& fields, const std::string& name);
 
-// A fresh temporary folder for one test (removed by the OS eventually; tests clean up files
-// they care about).
+// A fresh temporary folder; every folder handed out is removed when the test process exits,
+// unless NPF_KEEP_TEST_FILES is set (to look at what a failing test wrote).
 std::string temporary_folder(const std::string& tag);
 // Path of a file in ../shared/data (NPF_SHARED_DATA env var overrides), or "" if absent.
 std::string shared_data_file(const std::string& relative);
