@@ -1,3 +1,4 @@
+#include <npf/core/clamp.h>
 #include <npf/converter/piecewise_linear_2d.h>
 #include <npf/core/error.h>
 
@@ -8,7 +9,7 @@ namespace npf {
 
 namespace {
 
-float clamp01(float v) { return std::fmin(std::fmax(v, 0.f), 1.f); }  // NaN -> 0
+float clamp01(float v) { return clamp_range(v, 0.f, 1.f); }  // NaN -> 0
 float lerp(float a, float b, float t) { return a + (b - a) * t; }
 
 // tau in [0,1] with a*tau + (b-a)*tau^2/2 = y: where a linear density ramp from a to b over
@@ -17,7 +18,7 @@ float lerp(float a, float b, float t) { return a + (b - a) * t; }
 // case's threshold (errors near 1e-3 in the sampled direction). Multiplying through by the
 // conjugate gives the same root without cancellation and without a special case.
 float ramp_inverse(float a, float b, float y) {
-    const float denominator = a + std::sqrt(std::fmax(0.f, a * a + 2.f * y * (b - a)));
+    const float denominator = a + std::sqrt(clamp_low(a * a + 2.f * y * (b - a), 0.f));
     return denominator > 0.f ? clamp01(2.f * y / denominator) : 0.f;
 }
 
@@ -122,7 +123,7 @@ PiecewiseLinear2D::PiecewiseLinear2D(std::size_t width, std::size_t height, std:
     }
 }
 
-float PiecewiseLinear2D::blended(const std::vector<float>& table, std::size_t per_slice,
+inline float PiecewiseLinear2D::blended(const std::vector<float>& table, std::size_t per_slice,
                                  const SliceBlend& b, std::size_t k) const {
     float v = 0.f;
     for (int j = 0; j < b.count; ++j) v += b.weight[j] * table[b.slice[j] * per_slice + k];
@@ -143,8 +144,8 @@ Vec2 PiecewiseLinear2D::sample(Vec2 xi, const SliceBlend& b, float* density) con
     const std::size_t W = m_width, H = m_height, n = W * H;
     const float dx = 1.f / float(W - 1), dy = 1.f / float(H - 1);
     constexpr float eps = 6e-8f;
-    xi.x = std::fmin(std::fmax(xi.x, eps), 1.f - eps);
-    xi.y = std::fmin(std::fmax(xi.y, eps), 1.f - eps);
+    xi.x = clamp_range(xi.x, eps, 1.f - eps);
+    xi.y = clamp_range(xi.y, eps, 1.f - eps);
 
     // Row interval from the (blended) marginal CDF, then the position inside it.
     const std::size_t r = find_interval(H, [&](std::size_t i) { return blended(m_marginal_cdf, H, b, i) < xi.y; });

@@ -1,3 +1,4 @@
+#include <npf/core/clamp.h>
 #include <npf/converter/rgl_brdf.h>
 #include <npf/core/error.h>
 
@@ -12,7 +13,7 @@ namespace {
 constexpr float kInvTwoPi = 1.f / (2.f * kPi);
 
 // u-space of the RGL tables (docs/rgl-format.md sec. 0): square-root warp of the elevation.
-float theta_to_u(float theta) { return std::sqrt(std::fmax(theta, 0.f) * (2.f / kPi)); }
+float theta_to_u(float theta) { return std::sqrt(clamp_low(theta, 0.f) * (2.f / kPi)); }
 float phi_to_u(float phi) { return (phi + kPi) * kInvTwoPi; }
 float u_to_theta(float u) { return 0.5f * kPi * u * u; }
 float u_to_phi(float u) { return (2.f * u - 1.f) * kPi; }
@@ -276,8 +277,8 @@ void RglBrdf::eval_data(const DirectionState& st, const ChannelQuery& query, flo
     // The bilinear corner weights of xi times the parameter-slice weights: up to 16 terms that
     // every channel shares; each channel then only adds its own offset.
     const std::size_t W = m_data_width, H = m_data_height, plane = W * H;
-    const float gx = std::fmin(std::fmax(st.xi.x, 0.f), 1.f) * float(W - 1);
-    const float gy = std::fmin(std::fmax(st.xi.y, 0.f), 1.f) * float(H - 1);
+    const float gx = clamp_range(st.xi.x, 0.f, 1.f) * float(W - 1);
+    const float gy = clamp_range(st.xi.y, 0.f, 1.f) * float(H - 1);
     const std::size_t c = std::min(std::size_t(gx), W - 2), r = std::min(std::size_t(gy), H - 2);
     const float s = gx - float(c), t = gy - float(r);
     const float corner_w[4] = {(1 - s) * (1 - t), s * (1 - t), (1 - s) * t, s * t};
@@ -304,7 +305,7 @@ void RglBrdf::eval_data(const DirectionState& st, const ChannelQuery& query, flo
         const float w1 = query.weight1[k];
         float v = channel_value(query.index0[k]);
         if (w1 != 0.f) v += w1 * (channel_value(query.index1[k]) - v);
-        out[k] = query.clamp_negative ? std::fmax(v, 0.f) : v;
+        out[k] = query.clamp_negative ? clamp_low(v, 0.f) : v;
     }
 }
 
@@ -329,7 +330,7 @@ float RglBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
     const float sin_theta_h = std::sqrt(st.wh.x * st.wh.x + st.wh.y * st.wh.y);
     // u-space to solid angle (2 pi^2 u sin theta) and half vector to wo (4 wi.wh); the 1e-6
     // floor at the pole is the reference readers' own.
-    const float jacobian = std::fmax(2.f * kPi * kPi * st.u_h.x * sin_theta_h, 1e-6f) * 4.f * dot(st.wi, st.wh);
+    const float jacobian = clamp_low(2.f * kPi * kPi * st.u_h.x * sin_theta_h, 1e-6f) * 4.f * dot(st.wi, st.wh);
     return jacobian > 0.f ? st.vndf_density * lum_density / jacobian : 0.f;
 }
 
@@ -359,7 +360,7 @@ bool RglBrdf::sample(const Vec3& wi_in, const Vec2& u, const ChannelQuery& query
     const Vec3 wo = st.wh * (2.f * cos_d) - st.wi;
     if (!(wo.z > 0.f) || !(cos_d > 0.f)) return false;
 
-    const float jacobian = std::fmax(2.f * kPi * kPi * st.u_h.x * std::sin(theta_h), 1e-6f) * 4.f * cos_d;
+    const float jacobian = clamp_low(2.f * kPi * kPi * st.u_h.x * std::sin(theta_h), 1e-6f) * 4.f * cos_d;
     const float pdf = vndf_density * lum_density / jacobian;
     if (!(pdf > 0.f) || !std::isfinite(pdf)) return false;
     s.wo = fold.apply(wo);  // the flips are their own inverse

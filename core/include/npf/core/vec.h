@@ -37,7 +37,8 @@ inline Vec3 normalize(const Vec3& a) {
 // 2 asin(|w - n| / 2) does not (it is what the RGL reference readers use). Expects |w| = 1.
 inline float elevation(const Vec3& w) {
     float d = std::sqrt(w.x * w.x + w.y * w.y + (w.z - 1.f) * (w.z - 1.f));
-    return 2.f * std::asin(std::fmin(1.f, 0.5f * d));
+    const float half = 0.5f * d;
+    return 2.f * std::asin(half < 1.f ? half : 1.f);
 }
 
 // Azimuth in (-pi, pi], 0 along the tangent x.
