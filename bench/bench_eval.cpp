@@ -2,10 +2,14 @@
 // pdf and sample call. Direction pairs are drawn once, up front, so the loop times only the
 // material. Run: build/bench/npf_bench_eval [--benchmark_filter=...]
 #include <npf/converter/rgl_brdf.h>
+#ifdef NPF_BENCH_SYNTHETIC
+#include "synthetic_rgl.h"
+#endif
 
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <memory>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -86,6 +90,77 @@ void BM_Sample(benchmark::State& state, const std::string& name) {
     }
     state.SetItemsProcessed(state.iterations());
 }
+
+#ifdef NPF_BENCH_SYNTHETIC
+// A 195-wavelength (360 to 1000 nm) anisotropic spectral file at the database's data grid:
+// all wavelengths in one call (direction work shared) against one call per wavelength.
+const npf::RglBrdf& spectral_material() {
+    static std::unique_ptr<npf::RglBrdf> brdf = [] {
+        npf::testing::SyntheticRglSpec spec;
+        spec.phi_count = 9;
+        spec.spectral = true;
+        spec.wavelengths.clear();
+        for (int i = 0; i < 195; ++i) spec.wavelengths.push_back(360.f + 640.f * float(i) / 194.f);
+        spec.data_size = 32;
+        spec.vndf_size = 128;
+        spec.ndf_size = 128;
+        spec.theta_count = 8;
+        spec.alpha_x = 0.1f;
+        spec.alpha_y = 0.3f;
+        const std::string path = npf::testing::temporary_folder("bench") + "/aniso_spectral_195.bsdf";
+        npf::testing::write_synthetic_rgl(spec, path);
+        return npf::RglBrdf::load(path);
+    }();
+    return *brdf;
+}
+
+void BM_EvalSpectralAllAtOnce(benchmark::State& state) {
+    const npf::RglBrdf& brdf = spectral_material();
+    npf::ChannelQuery q = brdf.native_query();
+    const Pairs& p = random_pairs();
+    std::vector<float> out(q.size());
+    std::size_t i = 0;
+    for (auto _ : state) {
+        brdf.eval_cos(p.wi[i], p.wo[i], q, out.data());
+        benchmark::DoNotOptimize(out.data());
+        i = (i + 1) & 4095;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_EvalSpectralOneCallPerWavelength(benchmark::State& state) {
+    const npf::RglBrdf& brdf = spectral_material();
+    std::vector<npf::ChannelQuery> queries;
+    for (float lambda : brdf.info().channels.wavelengths()) queries.push_back(brdf.query(npf::Channels::spectral({lambda})));
+    const Pairs& p = random_pairs();
+    float out;
+    std::size_t i = 0;
+    for (auto _ : state) {
+        for (const npf::ChannelQuery& q : queries) brdf.eval_cos(p.wi[i], p.wo[i], q, &out);
+        benchmark::DoNotOptimize(out);
+        i = (i + 1) & 4095;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+void BM_EvalSpectralFourHeroWavelengths(benchmark::State& state) {
+    const npf::RglBrdf& brdf = spectral_material();
+    npf::ChannelQuery q = brdf.query(npf::Channels::spectral({412.3f, 523.9f, 601.2f, 688.8f}));
+    const Pairs& p = random_pairs();
+    float out[4];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        brdf.eval_cos(p.wi[i], p.wo[i], q, out);
+        benchmark::DoNotOptimize(out);
+        i = (i + 1) & 4095;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+BENCHMARK(BM_EvalSpectralAllAtOnce)->Name("eval_cos_spectral195/all_in_one_call");
+BENCHMARK(BM_EvalSpectralOneCallPerWavelength)->Name("eval_cos_spectral195/one_call_per_wavelength");
+BENCHMARK(BM_EvalSpectralFourHeroWavelengths)->Name("eval_cos_spectral195/four_hero_wavelengths");
+#endif
 
 int register_all() {
     for (const char* name : kMaterials) {

@@ -187,14 +187,25 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
                                        src + ": field 'luminance'");
     // Data tables are used at face value; only their finiteness is checked (validity of the
     // grid sizes is checked by the same constructor, on one slice's worth of shape).
-    b->m_data = file.to_float(*data);
-    for (std::size_t i = 0; i < b->m_data.size(); ++i) {
-        if (!std::isfinite(b->m_data[i])) {
+    // Stored [slice][channel][H][W]; kept [slice][H][W][channel], so that the corners of one
+    // direction pair hold every channel in a few contiguous cache lines (a spectral pair
+    // otherwise touches a separate line per channel and corner).
+    const std::vector<float> stored = file.to_float(*data);
+    for (std::size_t i = 0; i < stored.size(); ++i) {
+        if (!std::isfinite(stored[i])) {
             throw Error(src, "field '" + data->name + "' holds a non-finite value at index " + std::to_string(i));
         }
     }
     if (Hd < 2) throw Error(src, "field '" + data->name + "' data grid must be at least 2 x 2");
-    b->m_channel_count = std::size_t(data->shape[2]);
+    const std::size_t channels = std::size_t(data->shape[2]), plane = std::size_t(Hd * Wd);
+    b->m_data.resize(stored.size());
+    for (std::size_t slice = 0; slice < nP * nT; ++slice) {
+        const float* from = stored.data() + slice * channels * plane;
+        float* to = b->m_data.data() + slice * channels * plane;
+        for (std::size_t c = 0; c < channels; ++c)
+            for (std::size_t k = 0; k < plane; ++k) to[k * channels + c] = from[c * plane + k];
+    }
+    b->m_channel_count = channels;
     b->m_data_height = std::size_t(Hd);
     b->m_data_width = std::size_t(Wd);
 
@@ -275,37 +286,63 @@ bool RglBrdf::prepare(Vec3 wi, Vec3 wo, DirectionState& st) const {
 
 void RglBrdf::eval_data(const DirectionState& st, const ChannelQuery& query, float* out) const {
     // The bilinear corner weights of xi times the parameter-slice weights: up to 16 terms that
-    // every channel shares; each channel then only adds its own offset.
-    const std::size_t W = m_data_width, H = m_data_height, plane = W * H;
+    // every channel shares; each channel then only adds its own index.
+    const std::size_t W = m_data_width, H = m_data_height, C = m_channel_count;
     const float gx = clamp_range(st.xi.x, 0.f, 1.f) * float(W - 1);
     const float gy = clamp_range(st.xi.y, 0.f, 1.f) * float(H - 1);
     const std::size_t c = std::min(std::size_t(gx), W - 2), r = std::min(std::size_t(gy), H - 2);
     const float s = gx - float(c), t = gy - float(r);
     const float corner_w[4] = {(1 - s) * (1 - t), s * (1 - t), (1 - s) * t, s * t};
     const std::size_t corner_k[4] = {r * W + c, r * W + c + 1, (r + 1) * W + c, (r + 1) * W + c + 1};
-    std::size_t offset[16];
+    const float* base[16];
     float weight[16];
     int terms = 0;
     for (int j = 0; j < st.params.count; ++j) {
-        const std::size_t slice_base = std::size_t(st.params.slice[j]) * m_channel_count * plane;
+        const float* slice = m_data.data() + std::size_t(st.params.slice[j]) * H * W * C;
         for (int q = 0; q < 4; ++q) {
-            offset[terms] = slice_base + corner_k[q];
+            base[terms] = slice + corner_k[q] * C;
             weight[terms] = st.params.weight[j] * corner_w[q];
             ++terms;
         }
     }
-    const float* data = m_data.data();
-    auto channel_value = [&](std::uint32_t ch) {
-        const float* base = data + std::size_t(ch) * plane;
-        float v = 0.f;
-        for (int k = 0; k < terms; ++k) v += weight[k] * base[offset[k]];
-        return v;
-    };
-    for (std::size_t k = 0; k < query.size(); ++k) {
-        const float w1 = query.weight1[k];
-        float v = channel_value(query.index0[k]);
-        if (w1 != 0.f) v += w1 * (channel_value(query.index1[k]) - v);
-        out[k] = query.clamp_negative ? clamp_low(v, 0.f) : v;
+
+    auto finish = [&](float v) { return query.clamp_negative ? clamp_low(v, 0.f) : v; };
+    const std::size_t n = query.size();
+    constexpr std::size_t kMaxAccumulated = 512;
+    if (n > 8 && C <= kMaxAccumulated) {
+        // Many channels: accumulate every stored channel in one contiguous, vectorisable pass,
+        // then read the requested ones from the sums.
+        float sum[kMaxAccumulated];
+        for (std::size_t ch = 0; ch < C; ++ch) sum[ch] = weight[0] * base[0][ch];
+        for (int k = 1; k < terms; ++k) {
+            const float w = weight[k];
+            const float* b = base[k];
+            for (std::size_t ch = 0; ch < C; ++ch) sum[ch] += w * b[ch];
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            const float v0 = sum[query.index0[k]];
+            out[k] = finish(v0 + query.weight1[k] * (sum[query.index1[k]] - v0));
+        }
+        return;
+    }
+    // Few channels (RGB, hero wavelengths): gather just those, eight at a time and term by
+    // term, so that each corner's cache line is visited once for all of them.
+    for (std::size_t first = 0; first < n; first += 8) {
+        const std::size_t count = std::min<std::size_t>(8, n - first);
+        const std::uint32_t* i0 = query.index0.data() + first;
+        const std::uint32_t* i1 = query.index1.data() + first;
+        float lower[8] = {}, upper[8] = {};
+        for (int term = 0; term < terms; ++term) {
+            const float w = weight[term];
+            const float* b = base[term];
+            for (std::size_t k = 0; k < count; ++k) {
+                lower[k] += w * b[i0[k]];
+                upper[k] += w * b[i1[k]];
+            }
+        }
+        for (std::size_t k = 0; k < count; ++k) {
+            out[first + k] = finish(lower[k] + query.weight1[first + k] * (upper[k] - lower[k]));
+        }
     }
 }
 

@@ -49,7 +49,7 @@ private:
     std::vector<float> m_phi_i, m_theta_i;
     std::size_t m_channel_count = 0;          // 3 for RGB, nL for spectral
     std::size_t m_data_width = 0, m_data_height = 0;
-    std::vector<float> m_data;                // [nP][nT][channels][H][W], the ratio R
+    std::vector<float> m_data;                // [nP][nT][H][W][channels], the ratio R
     PiecewiseLinear2D m_ndf, m_sigma, m_vndf, m_luminance;
 };
 
