@@ -63,8 +63,9 @@ public:
     virtual bool sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
                         float* weight) const = 0;
 
-    // The request resolved against this source's stored channels (throws npf::Error).
-    ChannelQuery query(const Channels& requested) const;
+    // The request resolved against this source's stored channels (throws npf::Error when the
+    // source cannot provide it). Sources that compute any channel (analytic models) override.
+    virtual ChannelQuery query(const Channels& requested) const;
     // All stored channels, as stored.
     ChannelQuery native_query() const { return query(info().channels); }
 };

@@ -1,0 +1,40 @@
+// Fresnel reflectance of a smooth interface, per wavelength: conductors with complex indices
+// (from tables such as ../shared/data/ior/*.spd), dielectrics, Schlick's approximation, and the
+// Airy reflectance of a thin dielectric film on a conductor or dielectric base (Belcour &
+// Barla 2017; docs in npf-method-notes.md sec. 3). Unpolarised, from air (index 1).
+#pragma once
+
+#include <npf/color/spectrum.h>
+
+#include <string>
+
+namespace npf {
+
+class Fresnel {
+public:
+    enum class Kind { Conductor, Dielectric, Schlick, ThinFilm, One };
+
+    static Fresnel conductor(color::SampledSpectrum eta, color::SampledSpectrum k);
+    static Fresnel dielectric(color::SampledSpectrum eta);
+    static Fresnel schlick(color::SampledSpectrum f0);
+    // A film of `thickness_nm` and index `film_eta` on a base of complex index base_eta + i base_k
+    // (base_k = 0 for a dielectric base). thickness 0 gives the bare base's Fresnel exactly.
+    static Fresnel thin_film(double thickness_nm, color::SampledSpectrum film_eta, color::SampledSpectrum base_eta,
+                             color::SampledSpectrum base_k);
+    static Fresnel one();  // F = 1 (a perfect mirror-like reflector, for tests)
+
+    // Reflectance for the cosine of the angle between the incident direction and the
+    // microfacet normal (cos theta_d), at `lambda_nm`. In [0, 1].
+    double eval(double cos_theta_d, double lambda_nm) const;
+    Kind kind() const { return m_kind; }
+
+private:
+    Kind m_kind = Kind::One;
+    color::SampledSpectrum m_a, m_b, m_c;  // eta/k, eta, f0, or film eta / base eta / base k
+    double m_thickness_nm = 0.0;
+};
+
+// Reads a metal's complex index from `<dir>/<name>.eta.spd` and `<dir>/<name>.k.spd`.
+Fresnel conductor_from_ior_files(const std::string& dir, const std::string& name);
+
+}  // namespace npf
