@@ -1,5 +1,6 @@
 #include <npf/core/clamp.h>
 #include <npf/converter/rgl_brdf.h>
+#include "rgl_u_space.h"
 #include <npf/core/error.h>
 
 #include <algorithm>
@@ -8,15 +9,12 @@
 
 namespace npf {
 
+using rgl::phi_to_u;
+using rgl::theta_to_u;
+using rgl::u_to_phi;
+using rgl::u_to_theta;
+
 namespace {
-
-constexpr float kInvTwoPi = 1.f / (2.f * kPi);
-
-// u-space of the RGL tables (docs/rgl-format.md sec. 0): square-root warp of the elevation.
-float theta_to_u(float theta) { return std::sqrt(clamp_low(theta, 0.f) * (2.f / kPi)); }
-float phi_to_u(float phi) { return (phi + kPi) * kInvTwoPi; }
-float u_to_theta(float u) { return 0.5f * kPi * u * u; }
-float u_to_phi(float u) { return (2.f * u - 1.f) * kPi; }
 
 std::string join_floats(const std::vector<float>& v, int precision) {
     std::ostringstream os;

@@ -4,7 +4,9 @@ reader of the same format (pip install mitsuba). Compares f_r cos(theta_o) and t
 grazing, near-normal and mirror direction pairs, for the real files and for synthetic
 anisotropic (reductions 1, 2, 4) and spectral files.
 
-usage: crosscheck_measured.py NPF_TOOL SYNTH_TOOL [RGL_FILE...]
+usage: crosscheck_measured.py NPF_TOOL SYNTH_TOOL [--recipes DIR] [RGL_FILE...]
+With --recipes, every configs/materials recipe is also written by `npf synth` (at a reduced grid)
+and checked: Mitsuba reading what our writer wrote.
 Exit status 0 when every file agrees, 1 otherwise, 77 (skipped) when mitsuba is missing.
 """
 import math
@@ -103,6 +105,11 @@ def compare(name, ours, theirs):
     return status == "ok"
 
 
+def kind_of(npf_tool, path):
+    info = subprocess.run([npf_tool, "info", path], capture_output=True, text=True, check=True).stdout
+    return "spectral" if "channels: spectral" in info else "rgb"
+
+
 def check_one(npf_tool, path, kind):
     """Compares one file; run in a fresh process per file because Mitsuba 3 leaves its
     reduction factor uninitialised for isotropic files (mitsuba3 PR #1850): after an
@@ -129,8 +136,20 @@ def main():
         print(__doc__)
         return 2
     npf_tool, synth_tool = sys.argv[1], sys.argv[2]
-    files = [(p, "rgb") for p in sys.argv[3:]]
+    rest = sys.argv[3:]
+    recipes = None
+    if len(rest) >= 2 and rest[0] == "--recipes":
+        recipes, rest = rest[1], rest[2:]
+    files = [(p, kind_of(npf_tool, p)) for p in rest]
     folder = tempfile.mkdtemp(prefix="npf-mitsuba-")
+    if recipes:
+        for name in sorted(os.listdir(recipes)):
+            if not name.endswith(".yaml"):
+                continue
+            out = os.path.join(folder, name[:-5] + ".bsdf")
+            subprocess.run([npf_tool, "synth", "--recipe", os.path.join(recipes, name), "-o", out, "--quiet",
+                            "--phi", "12", "--vndf", "64", "--data", "16"], check=True, capture_output=True)
+            files.append((out, kind_of(npf_tool, out)))
     listing = subprocess.run([synth_tool, folder], capture_output=True, text=True, check=True).stdout
     files += [tuple(line.split()) for line in listing.splitlines()]
     ok = True

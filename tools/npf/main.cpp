@@ -20,6 +20,7 @@ struct Subcommand {
 const Subcommand kSubcommands[] = {
     {"info", npf::cli::run_info, "what a material file holds: format, isotropy, channels, grids, size"},
     {"eval", npf::cli::run_eval, "evaluate a material at direction pairs read from a file or stdin"},
+    {"synth", npf::cli::run_synth, "write an RGL .bsdf file from an analytic material (recipe or flags)"},
 };
 
 void print_usage(std::FILE* to) {

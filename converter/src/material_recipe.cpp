@@ -1,0 +1,297 @@
+#include <npf/converter/material_recipe.h>
+
+#include <npf/converter/data_files.h>
+#include <npf/core/error.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <sys/stat.h>
+
+namespace npf {
+
+namespace {
+
+// Errors name the recipe, the line and the key, like "recipe.yaml:7: key 'alpha': ...".
+struct Context {
+    std::string source;
+
+    [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const {
+        const YAML::Mark mark = node.Mark();
+        const std::string where = mark.line >= 0 ? source + ":" + std::to_string(mark.line + 1) : source;
+        throw Error(where, (key.empty() ? "" : "key '" + key + "': ") + problem);
+    }
+
+    double number(const YAML::Node& node, const std::string& key) const {
+        if (!node.IsScalar()) fail(node, key, "expected a number");
+        try {
+            const double v = node.as<double>();
+            if (!std::isfinite(v)) fail(node, key, "not a finite number");
+            return v;
+        } catch (const YAML::Exception&) {
+            fail(node, key, "'" + node.Scalar() + "' is not a number");
+        }
+    }
+
+    int whole(const YAML::Node& node, const std::string& key, int lo, int hi) const {
+        const double v = number(node, key);
+        if (v != std::floor(v) || v < lo || v > hi) {
+            fail(node, key, "expected a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        }
+        return int(v);
+    }
+
+    std::string text(const YAML::Node& node, const std::string& key) const {
+        if (!node.IsScalar()) fail(node, key, "expected text");
+        return node.Scalar();
+    }
+
+    // Every key of a mapping must be one of `allowed`.
+    void only(const YAML::Node& map, const std::string& key, std::initializer_list<const char*> allowed) const {
+        if (!map.IsMap()) fail(map, key, "expected a mapping");
+        const std::set<std::string> names(allowed.begin(), allowed.end());
+        for (const auto& kv : map) {
+            const std::string k = kv.first.Scalar();
+            if (!names.count(k)) {
+                std::string list;
+                for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+                fail(kv.first, k, "unknown key (expected one of: " + list + ")");
+            }
+        }
+    }
+};
+
+color::SampledSpectrum srgb_spectrum(double r, double g, double b) {
+    return color::linear_srgb_to_spectrum({color::srgb_to_linear(r), color::srgb_to_linear(g), color::srgb_to_linear(b)});
+}
+
+// number | {srgb: [r, g, b]} | {linear_srgb: [r, g, b]} | {spectrum: [[nm, v], ...]} | {file: path}
+color::SampledSpectrum parse_spectrum(const Context& cx, const YAML::Node& node, const std::string& key,
+                                      const std::string& base_dir) {
+    if (node.IsScalar()) return color::SampledSpectrum::constant(cx.number(node, key));
+    cx.only(node, key, {"srgb", "linear_srgb", "spectrum", "file"});
+    if (node.size() != 1) cx.fail(node, key, "give exactly one of srgb, linear_srgb, spectrum, file");
+    const auto kv = *node.begin();
+    const std::string kind = kv.first.Scalar();
+    const YAML::Node value = kv.second;
+    if (kind == "srgb" || kind == "linear_srgb") {
+        if (!value.IsSequence() || value.size() != 3) cx.fail(value, kind, "expected [r, g, b]");
+        double c[3];
+        for (int i = 0; i < 3; ++i) c[i] = cx.number(value[i], kind);
+        if (kind == "srgb") return srgb_spectrum(c[0], c[1], c[2]);
+        return color::linear_srgb_to_spectrum({c[0], c[1], c[2]});
+    }
+    if (kind == "file") {
+        std::string path = cx.text(value, kind);
+        if (!path.empty() && path[0] != '/') path = base_dir + "/" + path;
+        return color::read_spd(path);
+    }
+    if (!value.IsSequence() || value.size() == 0) cx.fail(value, kind, "expected [[wavelength_nm, value], ...]");
+    std::vector<double> wl, v;
+    for (const YAML::Node& row : value) {
+        if (!row.IsSequence() || row.size() != 2) cx.fail(row, kind, "each row is [wavelength_nm, value]");
+        wl.push_back(cx.number(row[0], kind));
+        v.push_back(cx.number(row[1], kind));
+    }
+    try {
+        return color::SampledSpectrum(wl, v);
+    } catch (const Error& e) {
+        cx.fail(value, kind, e.problem());
+    }
+}
+
+Fresnel parse_conductor(const Context& cx, const YAML::Node& node, const std::string& key, const std::string& base_dir) {
+    if (node.IsScalar()) return conductor_fresnel(cx.text(node, key), cx.source);
+    cx.only(node, key, {"eta", "k"});
+    if (!node["eta"] || !node["k"]) cx.fail(node, key, "a conductor needs both eta and k");
+    return Fresnel::conductor(parse_spectrum(cx, node["eta"], "eta", base_dir), parse_spectrum(cx, node["k"], "k", base_dir));
+}
+
+Fresnel parse_fresnel(const Context& cx, const YAML::Node& node, const std::string& base_dir) {
+    cx.only(node, "fresnel", {"conductor", "dielectric", "schlick", "thin_film", "one"});
+    if (node.size() != 1) cx.fail(node, "fresnel", "give exactly one of conductor, dielectric, schlick, thin_film, one");
+    const auto kv = *node.begin();
+    const std::string kind = kv.first.Scalar();
+    const YAML::Node value = kv.second;
+    if (kind == "conductor") return parse_conductor(cx, value, kind, base_dir);
+    if (kind == "dielectric") return Fresnel::dielectric(parse_spectrum(cx, value, kind, base_dir));
+    if (kind == "schlick") return Fresnel::schlick(parse_spectrum(cx, value, kind, base_dir));
+    if (kind == "one") return Fresnel::one();
+    cx.only(value, kind, {"thickness", "film_ior", "base"});
+    for (const char* required : {"thickness", "film_ior", "base"}) {
+        if (!value[required]) cx.fail(value, kind, std::string("missing '") + required + "'");
+    }
+    const double thickness = cx.number(value["thickness"], "thickness");
+    if (thickness < 0.0) cx.fail(value["thickness"], "thickness", "must not be negative (nm)");
+    const color::SampledSpectrum film = parse_spectrum(cx, value["film_ior"], "film_ior", base_dir);
+    const YAML::Node base = value["base"];
+    color::SampledSpectrum base_eta, base_k = color::SampledSpectrum::constant(0.0);
+    if (base.IsScalar()) {
+        double eta = 0.0;
+        std::istringstream is(base.Scalar());
+        if (is >> eta && is.eof()) {
+            base_eta = color::SampledSpectrum::constant(eta);  // a dielectric base
+        } else {
+            const std::string metal = base.Scalar();
+            const std::string eta_path = find_data_file("ior/" + metal + ".eta.spd");
+            const std::string k_path = find_data_file("ior/" + metal + ".k.spd");
+            if (eta_path.empty() || k_path.empty()) cx.fail(base, "base", "no refractive index tables for metal '" + metal + "'");
+            base_eta = color::read_spd(eta_path);
+            base_k = color::read_spd(k_path);
+        }
+    } else {
+        cx.only(base, "base", {"eta", "k"});
+        if (!base["eta"]) cx.fail(base, "base", "missing 'eta'");
+        base_eta = parse_spectrum(cx, base["eta"], "eta", base_dir);
+        if (base["k"]) base_k = parse_spectrum(cx, base["k"], "k", base_dir);
+    }
+    return Fresnel::thin_film(thickness, film, base_eta, base_k);
+}
+
+SpecularLobe parse_lobe(const Context& cx, const YAML::Node& node, const std::string& base_dir) {
+    cx.only(node, "lobes", {"distribution", "alpha", "rotation", "fresnel", "weight"});
+    SpecularLobe lobe;
+    if (node["distribution"]) {
+        const std::string d = cx.text(node["distribution"], "distribution");
+        if (d == "ggx") lobe.ndf.type = MicrofacetDistribution::Ggx;
+        else if (d == "beckmann") lobe.ndf.type = MicrofacetDistribution::Beckmann;
+        else cx.fail(node["distribution"], "distribution", "'" + d + "' is not ggx or beckmann");
+    }
+    if (!node["alpha"]) cx.fail(node, "lobes", "a lobe needs 'alpha' (one number or [alpha_x, alpha_y])");
+    const YAML::Node alpha = node["alpha"];
+    if (alpha.IsSequence()) {
+        if (alpha.size() != 2) cx.fail(alpha, "alpha", "expected [alpha_x, alpha_y]");
+        lobe.ndf.alpha_x = float(cx.number(alpha[0], "alpha"));
+        lobe.ndf.alpha_y = float(cx.number(alpha[1], "alpha"));
+    } else {
+        lobe.ndf.alpha_x = lobe.ndf.alpha_y = float(cx.number(alpha, "alpha"));
+    }
+    if (!(lobe.ndf.alpha_x >= 1e-4f && lobe.ndf.alpha_y >= 1e-4f && lobe.ndf.alpha_x <= 4.f && lobe.ndf.alpha_y <= 4.f)) {
+        cx.fail(alpha, "alpha", "roughness must lie in [1e-4, 4]");
+    }
+    if (node["rotation"]) lobe.ndf.rotation = float(cx.number(node["rotation"], "rotation") * kPiD / 180.0);
+    if (node["fresnel"]) lobe.fresnel = parse_fresnel(cx, node["fresnel"], base_dir);
+    if (node["weight"]) lobe.weight = parse_spectrum(cx, node["weight"], "weight", base_dir);
+    return lobe;
+}
+
+Channels parse_channels(const Context& cx, const YAML::Node& node) {
+    if (node.IsScalar()) {
+        const std::string t = node.Scalar();
+        if (t == "rgb") return Channels::rgb();
+        try {
+            return Channels::spectral(parse_wavelength_list(t, cx.source));
+        } catch (const Error& e) {
+            cx.fail(node, "wavelengths", e.problem());
+        }
+    }
+    if (!node.IsSequence() || node.size() == 0) cx.fail(node, "wavelengths", "expected rgb, start:end:count or a list");
+    std::vector<float> w;
+    for (const YAML::Node& v : node) w.push_back(float(cx.number(v, "wavelengths")));
+    return Channels::spectral(w);
+}
+
+}  // namespace
+
+color::SampledSpectrum spectrum_from_text(const std::string& text, const std::string& what) {
+    std::vector<double> parts;
+    std::stringstream ss(text);
+    bool numbers = !text.empty();
+    for (std::string p; std::getline(ss, p, ',');) {
+        char* end = nullptr;
+        const double v = std::strtod(p.c_str(), &end);
+        if (p.empty() || end != p.c_str() + p.size() || !std::isfinite(v)) {
+            numbers = false;
+            break;
+        }
+        parts.push_back(v);
+    }
+    if (numbers && parts.size() == 1) return color::SampledSpectrum::constant(parts[0]);
+    if (numbers && parts.size() == 3) return srgb_spectrum(parts[0], parts[1], parts[2]);
+    if (numbers) throw Error(what, "'" + text + "' is neither one number nor an r,g,b colour");
+    return color::read_spd(text);
+}
+
+Fresnel conductor_fresnel(const std::string& metal, const std::string& what) {
+    const std::string eta = find_data_file("ior/" + metal + ".eta.spd");
+    const std::string k = find_data_file("ior/" + metal + ".k.spd");
+    if (eta.empty() || k.empty()) {
+        throw Error(what, "no refractive index tables for metal '" + metal + "' (shipped: Ag, Al, Au, Cr, Cu)");
+    }
+    return Fresnel::conductor(color::read_spd(eta), color::read_spd(k));
+}
+
+MaterialRecipe parse_material_recipe(const std::string& yaml, const std::string& source, const std::string& base_dir) {
+    const Context cx{source};
+    YAML::Node root;
+    try {
+        root = YAML::Load(yaml);
+    } catch (const YAML::ParserException& e) {
+        throw Error(source + ":" + std::to_string(e.mark.line + 1), "not valid YAML: " + e.msg);
+    }
+    if (!root.IsMap()) throw Error(source, "a material recipe is a YAML mapping (name, lobes, diffuse, ...)");
+    cx.only(root, "", {"name", "output", "wavelengths", "lobes", "diffuse", "retroreflection", "sheen", "grid",
+                       "anisotropy"});
+    MaterialRecipe r;
+    if (root["name"]) r.material.name = cx.text(root["name"], "name");
+    if (root["output"]) {
+        r.output = cx.text(root["output"], "output");
+        if (!r.output.empty() && r.output[0] != '/') r.output = base_dir + "/" + r.output;
+    }
+    if (root["wavelengths"]) r.writer.channels = parse_channels(cx, root["wavelengths"]);
+    else r.writer.channels = Channels::rgb();
+    if (!r.writer.channels.is_rgb()) r.material.wavelengths = r.writer.channels.wavelengths();
+    if (root["lobes"]) {
+        if (!root["lobes"].IsSequence()) cx.fail(root["lobes"], "lobes", "expected a list of lobes");
+        for (const YAML::Node& lobe : root["lobes"]) r.material.specular.push_back(parse_lobe(cx, lobe, base_dir));
+    }
+    if (root["diffuse"]) r.material.diffuse = parse_spectrum(cx, root["diffuse"], "diffuse", base_dir);
+    if (root["retroreflection"]) {
+        const YAML::Node n = root["retroreflection"];
+        cx.only(n, "retroreflection", {"weight", "exponent"});
+        if (!n["weight"]) cx.fail(n, "retroreflection", "missing 'weight'");
+        r.material.retroreflection = parse_spectrum(cx, n["weight"], "weight", base_dir);
+        if (n["exponent"]) r.material.retro_exponent = float(cx.number(n["exponent"], "exponent"));
+    }
+    if (root["sheen"]) r.material.sheen = parse_spectrum(cx, root["sheen"], "sheen", base_dir);
+    if (r.material.specular.empty() && r.material.diffuse.empty() && r.material.retroreflection.empty() &&
+        r.material.sheen.empty()) {
+        throw Error(source, "the material has no lobes, no diffuse, no retroreflection and no sheen: it reflects nothing");
+    }
+    if (root["grid"]) {
+        const YAML::Node g = root["grid"];
+        cx.only(g, "grid", {"phi", "theta", "ndf", "ndf_rows", "vndf", "data"});
+        if (g["phi"]) r.writer.phi_count = cx.whole(g["phi"], "phi", 3, 4096);
+        if (g["theta"]) r.writer.theta_count = cx.whole(g["theta"], "theta", 2, 4096);
+        if (g["ndf"]) r.writer.ndf_size = cx.whole(g["ndf"], "ndf", 2, 4096);
+        if (g["ndf_rows"]) r.writer.ndf_rows = cx.whole(g["ndf_rows"], "ndf_rows", 2, 4096);
+        if (g["vndf"]) r.writer.vndf_size = cx.whole(g["vndf"], "vndf", 2, 4096);
+        if (g["data"]) r.writer.data_size = cx.whole(g["data"], "data", 2, 4096);
+    }
+    if (root["anisotropy"]) {
+        const std::string a = cx.text(root["anisotropy"], "anisotropy");
+        if (a == "auto") r.writer.anisotropy = AnisotropyMode::Auto;
+        else if (a == "isotropic") r.writer.anisotropy = AnisotropyMode::Isotropic;
+        else if (a == "anisotropic") r.writer.anisotropy = AnisotropyMode::Anisotropic;
+        else cx.fail(root["anisotropy"], "anisotropy", "'" + a + "' is not auto, isotropic or anisotropic");
+    }
+    r.writer.description = r.material.name;
+    return r;
+}
+
+MaterialRecipe load_material_recipe(const std::string& path) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0) throw Error(path, "cannot open the recipe: no such file");
+    if (S_ISDIR(st.st_mode)) throw Error(path, "is a directory, not a recipe");
+    std::ifstream in(path);
+    if (!in) throw Error(path, "cannot open the recipe");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::size_t slash = path.find_last_of('/');
+    return parse_material_recipe(ss.str(), path, slash == std::string::npos ? "." : path.substr(0, slash));
+}
+
+}  // namespace npf

@@ -1,0 +1,183 @@
+// npf synth: makes an RGL `.bsdf` file from an analytic material, given as a YAML recipe
+// (configs/materials/) or by flags ("virtual acquisition").
+#include "command_line.h"
+#include "commands.h"
+#include "progress.h"
+
+#include <npf/converter/data_files.h>
+#include <npf/converter/material_recipe.h>
+#include <npf/converter/open_brdf.h>
+#include <npf/converter/rgl_writer.h>
+#include <npf/core/error.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+namespace npf::cli {
+
+namespace {
+
+const std::vector<FlagSpec> kFlags = {
+    {"-o", true, "output .bsdf file (required unless the recipe names one)"},
+    {"--recipe", true, "YAML material recipe (see docs/synth.md, configs/materials/)"},
+    {"--name", true, "material name, written as the file's description"},
+    {"--distribution", true, "ggx (default) or beckmann"},
+    {"--alpha", true, "roughness: A or AX,AY (tangent, bitangent)"},
+    {"--rotation", true, "rotation of the lobe's tangent about the normal, degrees"},
+    {"--conductor", true, "metal Fresnel from the shipped tables: Ag, Al, Au, Cr, Cu"},
+    {"--dielectric", true, "dielectric Fresnel with this index (e.g. 1.5)"},
+    {"--schlick", true, "Schlick Fresnel with this F0: a number or r,g,b (sRGB)"},
+    {"--thin-film", true, "thin film: THICKNESS_NM,FILM_IOR,BASE (BASE a metal name or an index)"},
+    {"--diffuse", true, "Lambertian albedo: a number, r,g,b (sRGB) or an .spd file"},
+    {"--wavelengths", true, "rgb, or start:end:count or a,b,c in nm (default 360:1000:195)"},
+    {"--anisotropy", true, "auto (default), isotropic or anisotropic"},
+    {"--phi", true, "anisotropic phi_i nodes over [-pi, pi] (default 24)"},
+    {"--theta", true, "theta_i nodes (default 8)"},
+    {"--ndf", true, "ndf/sigma columns (default 128)"},
+    {"--ndf-rows", true, "anisotropic ndf/sigma rows (default 64)"},
+    {"--vndf", true, "vndf grid size (default 128)"},
+    {"--data", true, "data grid size (default 32)"},
+    {"--threads", true, "threads (default: all cores)"},
+    {"--quiet", false, "no progress bar"},
+    {"--help", false, "show this help"},
+};
+
+int whole_flag(const CommandLine& cl, const std::string& flag, int fallback, int lo) {
+    if (!cl.has(flag)) return fallback;
+    const std::string v = cl.value(flag);
+    char* end = nullptr;
+    const long n = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || n < lo || n > 4096) {
+        throw Error("npf synth", "option " + flag + " needs a whole number in [" + std::to_string(lo) + ", 4096], got '" + v + "'");
+    }
+    return int(n);
+}
+
+double number_flag(const std::string& flag, const std::string& v) {
+    char* end = nullptr;
+    const double d = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !std::isfinite(d)) throw Error("npf synth", "option " + flag + ": '" + v + "' is not a number");
+    return d;
+}
+
+}  // namespace
+
+int run_synth(const std::vector<std::string>& args) {
+    CommandLine cl("synth", args, kFlags);
+    if (cl.has("--help") || !cl.positional().empty() || args.empty()) {
+        std::printf("usage: npf synth -o OUT.bsdf [--recipe FILE.yaml] [material flags] [grid flags]\n\n"
+                    "Writes an RGL .bsdf file (readable by every RGL reader) from an analytic material.\n"
+                    "Flags override the recipe. Example, an anisotropic spectral copper with a faint\n"
+                    "diffuse term:\n"
+                    "  npf synth -o copper.bsdf --conductor Cu --alpha 0.08,0.35 --diffuse 0.02\n\n%s",
+                    usage_lines(kFlags).c_str());
+        return cl.has("--help") ? 0 : 2;
+    }
+
+    MaterialRecipe recipe;
+    recipe.writer.channels = Channels::spectral({});
+    if (cl.has("--recipe")) {
+        recipe = load_material_recipe(cl.value("--recipe"));
+    } else {
+        recipe.material.name = "synthetic material";
+    }
+    // A lobe from flags: created when any lobe flag is given and the recipe has none, else the
+    // flags edit the recipe's first lobe.
+    const bool lobe_flags = cl.has("--alpha") || cl.has("--distribution") || cl.has("--rotation") ||
+                            cl.has("--conductor") || cl.has("--dielectric") || cl.has("--schlick") ||
+                            cl.has("--thin-film");
+    if (lobe_flags && recipe.material.specular.empty()) recipe.material.specular.emplace_back();
+    if (lobe_flags) {
+        SpecularLobe& lobe = recipe.material.specular.front();
+        if (cl.has("--distribution")) {
+            const std::string d = cl.value("--distribution");
+            if (d == "ggx") lobe.ndf.type = MicrofacetDistribution::Ggx;
+            else if (d == "beckmann") lobe.ndf.type = MicrofacetDistribution::Beckmann;
+            else throw Error("npf synth", "--distribution: '" + d + "' is not ggx or beckmann");
+        }
+        if (cl.has("--alpha")) {
+            const std::string a = cl.value("--alpha");
+            const auto comma = a.find(',');
+            lobe.ndf.alpha_x = float(number_flag("--alpha", a.substr(0, comma)));
+            lobe.ndf.alpha_y = comma == std::string::npos ? lobe.ndf.alpha_x : float(number_flag("--alpha", a.substr(comma + 1)));
+            if (!(lobe.ndf.alpha_x >= 1e-4f && lobe.ndf.alpha_y >= 1e-4f && lobe.ndf.alpha_x <= 4.f && lobe.ndf.alpha_y <= 4.f)) {
+                throw Error("npf synth", "--alpha: roughness must lie in [1e-4, 4]");
+            }
+        }
+        if (cl.has("--rotation")) lobe.ndf.rotation = float(number_flag("--rotation", cl.value("--rotation")) * kPiD / 180.0);
+        if (cl.has("--conductor")) lobe.fresnel = conductor_fresnel(cl.value("--conductor"), "--conductor");
+        if (cl.has("--dielectric")) {
+            lobe.fresnel = Fresnel::dielectric(color::SampledSpectrum::constant(number_flag("--dielectric", cl.value("--dielectric"))));
+        }
+        if (cl.has("--schlick")) lobe.fresnel = Fresnel::schlick(spectrum_from_text(cl.value("--schlick"), "--schlick"));
+        if (cl.has("--thin-film")) {
+            const std::string t = cl.value("--thin-film");
+            const auto a = t.find(','), b = a == std::string::npos ? a : t.find(',', a + 1);
+            if (b == std::string::npos) throw Error("npf synth", "--thin-film needs THICKNESS_NM,FILM_IOR,BASE");
+            const double thickness = number_flag("--thin-film", t.substr(0, a));
+            const double film = number_flag("--thin-film", t.substr(a + 1, b - a - 1));
+            const std::string base = t.substr(b + 1);
+            char* end = nullptr;
+            const double base_ior = std::strtod(base.c_str(), &end);
+            if (!base.empty() && *end == '\0') {
+                lobe.fresnel = Fresnel::thin_film(thickness, color::SampledSpectrum::constant(film),
+                                                  color::SampledSpectrum::constant(base_ior), color::SampledSpectrum::constant(0.0));
+            } else {
+                const std::string eta = find_data_file("ior/" + base + ".eta.spd"), k = find_data_file("ior/" + base + ".k.spd");
+                if (eta.empty() || k.empty()) throw Error("npf synth", "--thin-film: no refractive index tables for metal '" + base + "'");
+                lobe.fresnel = Fresnel::thin_film(thickness, color::SampledSpectrum::constant(film), color::read_spd(eta),
+                                                  color::read_spd(k));
+            }
+        }
+    }
+    if (cl.has("--diffuse")) recipe.material.diffuse = spectrum_from_text(cl.value("--diffuse"), "--diffuse");
+    if (cl.has("--name")) recipe.material.name = recipe.writer.description = cl.value("--name");
+    if (cl.has("--wavelengths")) {
+        const std::string w = cl.value("--wavelengths");
+        recipe.writer.channels = w == "rgb" ? Channels::rgb() : Channels::spectral(parse_wavelength_list(w, "--wavelengths"));
+    }
+    if (!recipe.writer.channels.is_rgb() && recipe.writer.channels.wavelengths().empty()) {
+        recipe.writer.channels = Channels::spectral(parse_wavelength_list("360:1000:195", "default wavelengths"));
+    }
+    if (!recipe.writer.channels.is_rgb()) recipe.material.wavelengths = recipe.writer.channels.wavelengths();
+    if (cl.has("--anisotropy")) {
+        const std::string a = cl.value("--anisotropy");
+        if (a == "auto") recipe.writer.anisotropy = AnisotropyMode::Auto;
+        else if (a == "isotropic") recipe.writer.anisotropy = AnisotropyMode::Isotropic;
+        else if (a == "anisotropic") recipe.writer.anisotropy = AnisotropyMode::Anisotropic;
+        else throw Error("npf synth", "--anisotropy: '" + a + "' is not auto, isotropic or anisotropic");
+    }
+    recipe.writer.phi_count = whole_flag(cl, "--phi", recipe.writer.phi_count, 3);
+    recipe.writer.theta_count = whole_flag(cl, "--theta", recipe.writer.theta_count, 2);
+    recipe.writer.ndf_size = whole_flag(cl, "--ndf", recipe.writer.ndf_size, 2);
+    recipe.writer.ndf_rows = whole_flag(cl, "--ndf-rows", recipe.writer.ndf_rows, 2);
+    recipe.writer.vndf_size = whole_flag(cl, "--vndf", recipe.writer.vndf_size, 2);
+    recipe.writer.data_size = whole_flag(cl, "--data", recipe.writer.data_size, 2);
+    recipe.writer.threads = whole_flag(cl, "--threads", 0, 1);
+    if (recipe.writer.description.empty()) recipe.writer.description = recipe.material.name;
+
+    const std::string output = cl.has("-o") ? cl.value("-o") : recipe.output;
+    if (output.empty()) throw Error("npf synth", "no output file: give -o OUT.bsdf (or 'output' in the recipe)");
+    if (recipe.material.specular.empty() && recipe.material.diffuse.empty() && recipe.material.retroreflection.empty() &&
+        recipe.material.sheen.empty()) {
+        throw Error("npf synth", "the material reflects nothing: give a recipe, a Fresnel/roughness or --diffuse");
+    }
+
+    const AnalyticBrdf brdf(recipe.material);
+    if (const MicrofacetNdf* ndf = brdf.single_ndf()) {
+        const MicrofacetNdf copy = *ndf;
+        recipe.writer.ndf = [copy](const Vec3& m) { return copy.eval(m); };
+    }
+    ProgressBar bar("synth " + output, !cl.has("--quiet"));
+    recipe.writer.progress = [&bar](double f) { bar.update(f); };
+    const RglWriteReport report = write_rgl(brdf, output, recipe.writer);
+    bar.finish();
+    std::printf("wrote %s: %s, %s, %zu phi_i x %zu theta_i, %.1f MiB, %.1f s\n", output.c_str(),
+                report.isotropic ? "isotropic" : "anisotropic",
+                recipe.writer.channels.is_rgb() ? "RGB" : (std::to_string(recipe.writer.channels.size()) + " wavelengths").c_str(),
+                report.phi_i.size(), report.theta_i.size(), double(report.bytes) / (1024.0 * 1024.0), report.seconds);
+    return 0;
+}
+
+}  // namespace npf::cli
