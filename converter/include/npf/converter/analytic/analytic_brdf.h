@@ -6,10 +6,25 @@
 // f_r(wi, wo, lambda) = rho_d(lambda) / pi
 //                     + sum_lobes w(lambda) D(h) F(wi.h, lambda) G1(wi, h) G1(wo, h) / (4 cos_i cos_o)
 //                     + retro(lambda) (n + 1) / (2 pi) max(0, wi.wo)^n
-//                     + sheen(lambda) (1 - |wi.h|)^5 ... (see analytic_brdf.cpp)
+//                     + sheen(lambda) D_s(h) / (4 (cos_i + cos_o - cos_i cos_o))
+// with h = normalize(wi + wo), G1 Smith's separable masking of each lobe's NDF, n =
+// retro_exponent, and the sheen lobe the "Charlie" fibre distribution (Estevez & Kulla 2017)
+//     D_s(h) = (2 + 1/a) sin(theta_h)^(1/a) / (2 pi),   a = sheen_roughness in (0, 1],
+// (normalised like an NDF: integral D_s cos = 1) with Neubelt & Pettineo's (2013) smooth
+// visibility term instead of a masking function. It peaks where h lies in the tangent plane,
+// i.e. at grazing, opposite wi and wo (the rim highlight of velvet and other fibre-covered
+// surfaces), is reciprocal, and stays finite at the horizon. Every term is >= 0 and reciprocal.
 // The diffuse term is added without a (1 - F) factor on purpose: the material then lies
 // exactly in the NPF model's family (rho_d + rho_s D F G G / cos cos) when it has one lobe,
 // which is what the fitter's exactness tests need.
+//
+// Sampling is a mixture: specular lobes draw m ~ D(m) cos(theta_m) and reflect wi (draws with
+// wi.m <= 0 or wo below the horizon fail), the diffuse and sheen lobes draw cosine-weighted
+// directions, the retro lobe draws (n + 1) / (2 pi) (wi.wo)^n around wi (draws below the
+// horizon fail). Lobes are chosen with probabilities proportional to the luminance (over the
+// material's wavelengths) of their weight spectra, each specular weight times the
+// cosine-weighted hemispherical average of its Fresnel term; pdf() is the exact density of
+// that procedure, so pdf integrates to 1 minus the failure probability.
 #pragma once
 
 #include <npf/color/spectrum.h>
@@ -18,6 +33,7 @@
 #include <npf/core/brdf.h>
 
 #include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -37,8 +53,11 @@ struct AnalyticMaterial {
     float retro_exponent = 20.f;
     color::SampledSpectrum sheen;             // weight of the sheen lobe; empty: none
     // The wavelengths this material reports as its own (info().channels), e.g. for writers
-    // that keep "all" of them: 195 samples over 360..1000 nm by default, like the database.
+    // that keep "all" of them: 195 samples over 360..1000 nm by default, like the database
+    // (AnalyticBrdf fills that list in when this is empty). Must be strictly ascending.
     std::vector<float> wavelengths;
+    // Width of the sheen lobe (a of D_s above): 1 broad, -> 0 concentrated at the horizon.
+    float sheen_roughness = 0.5f;
 };
 
 class AnalyticBrdf final : public Brdf {
@@ -59,11 +78,32 @@ public:
     const MicrofacetNdf* single_ndf() const;
 
 private:
+    // The material's spectra looked up once at a fixed list of wavelengths (empty vectors
+    // where a lobe is absent): the internal RGB grid, and the material's own wavelengths (the
+    // list writers ask for), so that those evaluations search no tables.
+    struct SpectralTable {
+        std::vector<float> wavelengths;
+        std::vector<std::vector<double>> lobe_weight;                // per specular lobe
+        std::vector<std::vector<Fresnel::Coefficients>> fresnel;    // per specular lobe
+        std::vector<double> diffuse, retro, sheen;
+    };
+    SpectralTable make_table(const std::vector<float>& wavelengths) const;
+
+    // Adds f_r cos(theta_o) at `n` wavelengths to acc[]: entries [first, first + n) of
+    // `table`, or, when table is null, lambda[0..n) looked up in the spectra. Both directions
+    // must be above the horizon.
+    template <typename Acc>
+    void accumulate(const Vec3& wi, const Vec3& wo, const SpectralTable* table, std::size_t first,
+                    const float* lambda, std::size_t n, Acc* acc) const;
+    double specular_pdf(const SpecularLobe& lobe, const Vec3& wi, const Vec3& wo) const;
+
     AnalyticMaterial m_material;
     BrdfInfo m_info;
     std::vector<float> m_rgb_wavelengths;          // spectral grid for RGB evaluation
     std::array<std::vector<double>, 3> m_rgb_weights;
     std::vector<float> m_lobe_probability;         // sampling mixture: specular lobes..., diffuse, retro, sheen
+    std::vector<float> m_lobe_cdf;                 // its running sum (size + 1 entries, last = 1)
+    SpectralTable m_grid_table, m_native_table;
 };
 
 }  // namespace npf

@@ -19,6 +19,8 @@ public:
     static Fresnel schlick(color::SampledSpectrum f0);
     // A film of `thickness_nm` and index `film_eta` on a base of complex index base_eta + i base_k
     // (base_k = 0 for a dielectric base). thickness 0 gives the bare base's Fresnel exactly.
+    // A film of index below 1 past its critical angle is treated as an evanescent layer
+    // (complex cos theta_2) rather than as total reflection, which keeps thickness 0 exact.
     static Fresnel thin_film(double thickness_nm, color::SampledSpectrum film_eta, color::SampledSpectrum base_eta,
                              color::SampledSpectrum base_k);
     static Fresnel one();  // F = 1 (a perfect mirror-like reflector, for tests)
@@ -27,6 +29,16 @@ public:
     // microfacet normal (cos theta_d), at `lambda_nm`. In [0, 1].
     double eval(double cos_theta_d, double lambda_nm) const;
     Kind kind() const { return m_kind; }
+
+    // The spectra looked up at one wavelength, so that callers evaluating many angles at
+    // fixed wavelengths (AnalyticBrdf's RGB grid) search the tables once:
+    // eval(c, coefficients(l)) == eval(c, l).
+    struct Coefficients {
+        double a = 0.0, b = 0.0, c = 0.0;  // m_a, m_b, m_c at lambda_nm (0 where unused)
+        double lambda_nm = 0.0;
+    };
+    Coefficients coefficients(double lambda_nm) const;
+    double eval(double cos_theta_d, const Coefficients& coefficients) const;
 
 private:
     Kind m_kind = Kind::One;
