@@ -679,10 +679,10 @@ TEST(CliEval, UnknownOptionAndBadUsage) {
     EXPECT_TRUE(contains(r.err, "unknown option '--bogus'")) << describe(r);
     r = run_npf({"eval", materials().rgb, "--cos=1"}, "0 0 1 0 0 1\n");
     EXPECT_EQ(r.status, 1) << describe(r);
-    EXPECT_TRUE(contains(r.err, "option '--cos' takes no value")) << describe(r);
+    EXPECT_TRUE(contains(r.err, "--cos: takes no value")) << describe(r);
     r = run_npf({"eval", materials().rgb, "--dirs"});
     EXPECT_EQ(r.status, 1) << describe(r);
-    EXPECT_TRUE(contains(r.err, "option '--dirs' needs a value")) << describe(r);
+    EXPECT_TRUE(contains(r.err, "--dirs: needs a value")) << describe(r);
     r = run_npf({"eval"});
     EXPECT_EQ(r.status, 2) << describe(r);
     EXPECT_TRUE(contains(r.out, "usage: npf eval")) << describe(r);

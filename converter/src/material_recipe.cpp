@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -13,11 +14,26 @@
 
 namespace npf {
 
+const char* const kDefaultWavelengths = "360:1000:195";
+
 namespace {
 
 // Errors name the recipe, the line and the key, like "recipe.yaml:7: key 'alpha': ...".
 struct Context {
     std::string source;
+
+    // Runs make(); an npf::Error it throws (a bad index file, a Fresnel value out of range)
+    // is reported at this node and key instead.
+    template <typename Make>
+    auto at(const YAML::Node& node, const std::string& key, Make make) const -> decltype(make()) {
+        try {
+            return make();
+        } catch (const Error& e) {
+            fail(node, key, e.source().empty() || e.source() == "Fresnel" || e.source() == "spectrum"
+                                ? e.problem()
+                                : e.source() + ": " + e.problem());
+        }
+    }
 
     [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const {
         const YAML::Mark mark = node.Mark();
@@ -50,9 +66,11 @@ struct Context {
     }
 
     // Every key of a mapping must be one of `allowed`.
-    void only(const YAML::Node& map, const std::string& key, std::initializer_list<const char*> allowed) const {
+    void only(const YAML::Node& map, const std::string& key, std::initializer_list<const char*> allowed,
+              std::initializer_list<const char*> may_be_empty = {}) const {
         if (!map.IsMap()) fail(map, key, "expected a mapping");
         const std::set<std::string> names(allowed.begin(), allowed.end());
+        std::set<std::string> seen;
         for (const auto& kv : map) {
             const std::string k = kv.first.Scalar();
             if (!names.count(k)) {
@@ -60,6 +78,12 @@ struct Context {
                 for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
                 fail(kv.first, k, "unknown key (expected one of: " + list + ")");
             }
+            // YAML parsers keep one of two equal keys silently; a recipe should not.
+            if (!seen.insert(k).second) fail(kv.first, k, "given twice");
+            // An empty value's own position is past it: report the key's line.
+            const bool empty_allowed = std::find_if(may_be_empty.begin(), may_be_empty.end(),
+                                                    [&](const char* e) { return k == e; }) != may_be_empty.end();
+            if (kv.second.IsNull() && !empty_allowed) fail(kv.first, k, "has no value");
         }
     }
 };
@@ -69,8 +93,8 @@ color::SampledSpectrum srgb_spectrum(double r, double g, double b) {
 }
 
 // number | {srgb: [r, g, b]} | {linear_srgb: [r, g, b]} | {spectrum: [[nm, v], ...]} | {file: path}
-color::SampledSpectrum parse_spectrum(const Context& cx, const YAML::Node& node, const std::string& key,
-                                      const std::string& base_dir) {
+color::SampledSpectrum parse_any_spectrum(const Context& cx, const YAML::Node& node, const std::string& key,
+                                          const std::string& base_dir) {
     if (node.IsScalar()) return color::SampledSpectrum::constant(cx.number(node, key));
     cx.only(node, key, {"srgb", "linear_srgb", "spectrum", "file"});
     if (node.size() != 1) cx.fail(node, key, "give exactly one of srgb, linear_srgb, spectrum, file");
@@ -87,7 +111,7 @@ color::SampledSpectrum parse_spectrum(const Context& cx, const YAML::Node& node,
     if (kind == "file") {
         std::string path = cx.text(value, kind);
         if (!path.empty() && path[0] != '/') path = base_dir + "/" + path;
-        return color::read_spd(path);
+        return cx.at(value, kind, [&] { return color::read_spd(path); });
     }
     if (!value.IsSequence() || value.size() == 0) cx.fail(value, kind, "expected [[wavelength_nm, value], ...]");
     std::vector<double> wl, v;
@@ -103,22 +127,43 @@ color::SampledSpectrum parse_spectrum(const Context& cx, const YAML::Node& node,
     }
 }
 
+// Weights, albedos and indices: spectra whose values may not be negative.
+color::SampledSpectrum parse_spectrum(const Context& cx, const YAML::Node& node, const std::string& key,
+                                      const std::string& base_dir) {
+    color::SampledSpectrum s = parse_any_spectrum(cx, node, key, base_dir);
+    for (double v : s.values()) {
+        if (v < 0.0) cx.fail(node, key, "negative value " + std::to_string(v) + " (weights, albedos and indices are >= 0)");
+    }
+    return s;
+}
+
 Fresnel parse_conductor(const Context& cx, const YAML::Node& node, const std::string& key, const std::string& base_dir) {
-    if (node.IsScalar()) return conductor_fresnel(cx.text(node, key), cx.source);
+    if (node.IsScalar()) {
+        const std::string metal = cx.text(node, key);
+        return cx.at(node, key, [&] { return conductor_fresnel(metal, ""); });
+    }
     cx.only(node, key, {"eta", "k"});
     if (!node["eta"] || !node["k"]) cx.fail(node, key, "a conductor needs both eta and k");
-    return Fresnel::conductor(parse_spectrum(cx, node["eta"], "eta", base_dir), parse_spectrum(cx, node["k"], "k", base_dir));
+    const color::SampledSpectrum eta = parse_spectrum(cx, node["eta"], "eta", base_dir);
+    const color::SampledSpectrum k = parse_spectrum(cx, node["k"], "k", base_dir);
+    return cx.at(node, key, [&] { return Fresnel::conductor(eta, k); });
 }
 
 Fresnel parse_fresnel(const Context& cx, const YAML::Node& node, const std::string& base_dir) {
-    cx.only(node, "fresnel", {"conductor", "dielectric", "schlick", "thin_film", "one"});
+    cx.only(node, "fresnel", {"conductor", "dielectric", "schlick", "thin_film", "one"}, {"one"});
     if (node.size() != 1) cx.fail(node, "fresnel", "give exactly one of conductor, dielectric, schlick, thin_film, one");
     const auto kv = *node.begin();
     const std::string kind = kv.first.Scalar();
     const YAML::Node value = kv.second;
     if (kind == "conductor") return parse_conductor(cx, value, kind, base_dir);
-    if (kind == "dielectric") return Fresnel::dielectric(parse_spectrum(cx, value, kind, base_dir));
-    if (kind == "schlick") return Fresnel::schlick(parse_spectrum(cx, value, kind, base_dir));
+    if (kind == "dielectric") {
+        const color::SampledSpectrum eta = parse_spectrum(cx, value, kind, base_dir);
+        return cx.at(value, kind, [&] { return Fresnel::dielectric(eta); });
+    }
+    if (kind == "schlick") {
+        const color::SampledSpectrum f0 = parse_spectrum(cx, value, kind, base_dir);
+        return cx.at(value, kind, [&] { return Fresnel::schlick(f0); });
+    }
     if (kind == "one") return Fresnel::one();
     cx.only(value, kind, {"thickness", "film_ior", "base"});
     for (const char* required : {"thickness", "film_ior", "base"}) {
@@ -139,8 +184,8 @@ Fresnel parse_fresnel(const Context& cx, const YAML::Node& node, const std::stri
             const std::string eta_path = find_data_file("ior/" + metal + ".eta.spd");
             const std::string k_path = find_data_file("ior/" + metal + ".k.spd");
             if (eta_path.empty() || k_path.empty()) cx.fail(base, "base", "no refractive index tables for metal '" + metal + "'");
-            base_eta = color::read_spd(eta_path);
-            base_k = color::read_spd(k_path);
+            base_eta = cx.at(base, "base", [&] { return color::read_spd(eta_path); });
+            base_k = cx.at(base, "base", [&] { return color::read_spd(k_path); });
         }
     } else {
         cx.only(base, "base", {"eta", "k"});
@@ -148,7 +193,7 @@ Fresnel parse_fresnel(const Context& cx, const YAML::Node& node, const std::stri
         base_eta = parse_spectrum(cx, base["eta"], "eta", base_dir);
         if (base["k"]) base_k = parse_spectrum(cx, base["k"], "k", base_dir);
     }
-    return Fresnel::thin_film(thickness, film, base_eta, base_k);
+    return cx.at(value, kind, [&] { return Fresnel::thin_film(thickness, film, base_eta, base_k); });
 }
 
 SpecularLobe parse_lobe(const Context& cx, const YAML::Node& node, const std::string& base_dir) {
@@ -190,7 +235,11 @@ Channels parse_channels(const Context& cx, const YAML::Node& node) {
     }
     if (!node.IsSequence() || node.size() == 0) cx.fail(node, "wavelengths", "expected rgb, start:end:count or a list");
     std::vector<float> w;
-    for (const YAML::Node& v : node) w.push_back(float(cx.number(v, "wavelengths")));
+    for (const YAML::Node& v : node) {
+        w.push_back(float(cx.number(v, "wavelengths")));
+        if (w.back() <= 0.f) cx.fail(v, "wavelengths", "wavelengths are positive (nm)");
+        if (w.size() > 1 && !(w.back() > w[w.size() - 2])) cx.fail(v, "wavelengths", "wavelengths must be strictly ascending");
+    }
     return Channels::spectral(w);
 }
 
@@ -241,8 +290,9 @@ MaterialRecipe parse_material_recipe(const std::string& yaml, const std::string&
         r.output = cx.text(root["output"], "output");
         if (!r.output.empty() && r.output[0] != '/') r.output = base_dir + "/" + r.output;
     }
-    if (root["wavelengths"]) r.writer.channels = parse_channels(cx, root["wavelengths"]);
-    else r.writer.channels = Channels::rgb();
+    // The default is the database's spectral sampling, as for `npf synth` flags.
+    r.writer.channels = root["wavelengths"] ? parse_channels(cx, root["wavelengths"])
+                                            : Channels::spectral(parse_wavelength_list(kDefaultWavelengths, source));
     if (!r.writer.channels.is_rgb()) r.material.wavelengths = r.writer.channels.wavelengths();
     if (root["lobes"]) {
         if (!root["lobes"].IsSequence()) cx.fail(root["lobes"], "lobes", "expected a list of lobes");
@@ -254,7 +304,12 @@ MaterialRecipe parse_material_recipe(const std::string& yaml, const std::string&
         cx.only(n, "retroreflection", {"weight", "exponent"});
         if (!n["weight"]) cx.fail(n, "retroreflection", "missing 'weight'");
         r.material.retroreflection = parse_spectrum(cx, n["weight"], "weight", base_dir);
-        if (n["exponent"]) r.material.retro_exponent = float(cx.number(n["exponent"], "exponent"));
+        if (n["exponent"]) {
+            r.material.retro_exponent = float(cx.number(n["exponent"], "exponent"));
+            if (r.material.retro_exponent < 0.f || r.material.retro_exponent > 1e6f) {
+                cx.fail(n["exponent"], "exponent", "must lie in [0, 1e6]");
+            }
+        }
     }
     if (root["sheen"]) r.material.sheen = parse_spectrum(cx, root["sheen"], "sheen", base_dir);
     if (r.material.specular.empty() && r.material.diffuse.empty() && r.material.retroreflection.empty() &&

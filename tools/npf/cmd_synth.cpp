@@ -49,7 +49,7 @@ int whole_flag(const CommandLine& cl, const std::string& flag, int fallback, int
     char* end = nullptr;
     const long n = std::strtol(v.c_str(), &end, 10);
     if (v.empty() || *end != '\0' || n < lo || n > 4096) {
-        throw Error("npf synth", "option " + flag + " needs a whole number in [" + std::to_string(lo) + ", 4096], got '" + v + "'");
+        throw Error(flag, "needs a whole number in [" + std::to_string(lo) + ", 4096], got '" + v + "'");
     }
     return int(n);
 }
@@ -57,7 +57,7 @@ int whole_flag(const CommandLine& cl, const std::string& flag, int fallback, int
 double number_flag(const std::string& flag, const std::string& v) {
     char* end = nullptr;
     const double d = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || !std::isfinite(d)) throw Error("npf synth", "option " + flag + ": '" + v + "' is not a number");
+    if (v.empty() || *end != '\0' || !std::isfinite(d)) throw Error(flag, "'" + v + "' is not a number");
     return d;
 }
 
@@ -88,13 +88,16 @@ int run_synth(const std::vector<std::string>& args) {
                             cl.has("--conductor") || cl.has("--dielectric") || cl.has("--schlick") ||
                             cl.has("--thin-film");
     if (lobe_flags && recipe.material.specular.empty()) recipe.material.specular.emplace_back();
+    const int fresnel_flags = int(cl.has("--conductor")) + int(cl.has("--dielectric")) + int(cl.has("--schlick")) +
+                              int(cl.has("--thin-film"));
+    if (fresnel_flags > 1) throw Error("--conductor/--dielectric/--schlick/--thin-film", "give at most one Fresnel term");
     if (lobe_flags) {
         SpecularLobe& lobe = recipe.material.specular.front();
         if (cl.has("--distribution")) {
             const std::string d = cl.value("--distribution");
             if (d == "ggx") lobe.ndf.type = MicrofacetDistribution::Ggx;
             else if (d == "beckmann") lobe.ndf.type = MicrofacetDistribution::Beckmann;
-            else throw Error("npf synth", "--distribution: '" + d + "' is not ggx or beckmann");
+            else throw Error("--distribution", "'" + d + "' is not ggx or beckmann");
         }
         if (cl.has("--alpha")) {
             const std::string a = cl.value("--alpha");
@@ -102,32 +105,49 @@ int run_synth(const std::vector<std::string>& args) {
             lobe.ndf.alpha_x = float(number_flag("--alpha", a.substr(0, comma)));
             lobe.ndf.alpha_y = comma == std::string::npos ? lobe.ndf.alpha_x : float(number_flag("--alpha", a.substr(comma + 1)));
             if (!(lobe.ndf.alpha_x >= 1e-4f && lobe.ndf.alpha_y >= 1e-4f && lobe.ndf.alpha_x <= 4.f && lobe.ndf.alpha_y <= 4.f)) {
-                throw Error("npf synth", "--alpha: roughness must lie in [1e-4, 4]");
+                throw Error("--alpha", "roughness must lie in [1e-4, 4]");
             }
         }
         if (cl.has("--rotation")) lobe.ndf.rotation = float(number_flag("--rotation", cl.value("--rotation")) * kPiD / 180.0);
         if (cl.has("--conductor")) lobe.fresnel = conductor_fresnel(cl.value("--conductor"), "--conductor");
+        // Fresnel factories reject out-of-range values; report them against the flag.
+        auto for_flag = [](const char* flag, auto make) {
+            try {
+                return make();
+            } catch (const Error& e) {
+                throw Error(flag, e.problem());
+            }
+        };
         if (cl.has("--dielectric")) {
-            lobe.fresnel = Fresnel::dielectric(color::SampledSpectrum::constant(number_flag("--dielectric", cl.value("--dielectric"))));
+            const double eta = number_flag("--dielectric", cl.value("--dielectric"));
+            lobe.fresnel = for_flag("--dielectric", [&] { return Fresnel::dielectric(color::SampledSpectrum::constant(eta)); });
         }
-        if (cl.has("--schlick")) lobe.fresnel = Fresnel::schlick(spectrum_from_text(cl.value("--schlick"), "--schlick"));
+        if (cl.has("--schlick")) {
+            const color::SampledSpectrum f0 = spectrum_from_text(cl.value("--schlick"), "--schlick");
+            lobe.fresnel = for_flag("--schlick", [&] { return Fresnel::schlick(f0); });
+        }
         if (cl.has("--thin-film")) {
             const std::string t = cl.value("--thin-film");
             const auto a = t.find(','), b = a == std::string::npos ? a : t.find(',', a + 1);
-            if (b == std::string::npos) throw Error("npf synth", "--thin-film needs THICKNESS_NM,FILM_IOR,BASE");
+            if (b == std::string::npos) throw Error("--thin-film", "needs THICKNESS_NM,FILM_IOR,BASE");
             const double thickness = number_flag("--thin-film", t.substr(0, a));
             const double film = number_flag("--thin-film", t.substr(a + 1, b - a - 1));
             const std::string base = t.substr(b + 1);
             char* end = nullptr;
             const double base_ior = std::strtod(base.c_str(), &end);
+            if (!(thickness >= 0.0)) throw Error("--thin-film", "the film thickness must not be negative (nm)");
             if (!base.empty() && *end == '\0') {
-                lobe.fresnel = Fresnel::thin_film(thickness, color::SampledSpectrum::constant(film),
-                                                  color::SampledSpectrum::constant(base_ior), color::SampledSpectrum::constant(0.0));
+                lobe.fresnel = for_flag("--thin-film", [&] {
+                    return Fresnel::thin_film(thickness, color::SampledSpectrum::constant(film),
+                                              color::SampledSpectrum::constant(base_ior), color::SampledSpectrum::constant(0.0));
+                });
             } else {
                 const std::string eta = find_data_file("ior/" + base + ".eta.spd"), k = find_data_file("ior/" + base + ".k.spd");
-                if (eta.empty() || k.empty()) throw Error("npf synth", "--thin-film: no refractive index tables for metal '" + base + "'");
-                lobe.fresnel = Fresnel::thin_film(thickness, color::SampledSpectrum::constant(film), color::read_spd(eta),
-                                                  color::read_spd(k));
+                if (eta.empty() || k.empty()) throw Error("--thin-film", "no refractive index tables for metal '" + base + "'");
+                lobe.fresnel = for_flag("--thin-film", [&] {
+                    return Fresnel::thin_film(thickness, color::SampledSpectrum::constant(film), color::read_spd(eta),
+                                              color::read_spd(k));
+                });
             }
         }
     }
@@ -138,7 +158,7 @@ int run_synth(const std::vector<std::string>& args) {
         recipe.writer.channels = w == "rgb" ? Channels::rgb() : Channels::spectral(parse_wavelength_list(w, "--wavelengths"));
     }
     if (!recipe.writer.channels.is_rgb() && recipe.writer.channels.wavelengths().empty()) {
-        recipe.writer.channels = Channels::spectral(parse_wavelength_list("360:1000:195", "default wavelengths"));
+        recipe.writer.channels = Channels::spectral(parse_wavelength_list(kDefaultWavelengths, "default wavelengths"));
     }
     if (!recipe.writer.channels.is_rgb()) recipe.material.wavelengths = recipe.writer.channels.wavelengths();
     if (cl.has("--anisotropy")) {
@@ -146,7 +166,7 @@ int run_synth(const std::vector<std::string>& args) {
         if (a == "auto") recipe.writer.anisotropy = AnisotropyMode::Auto;
         else if (a == "isotropic") recipe.writer.anisotropy = AnisotropyMode::Isotropic;
         else if (a == "anisotropic") recipe.writer.anisotropy = AnisotropyMode::Anisotropic;
-        else throw Error("npf synth", "--anisotropy: '" + a + "' is not auto, isotropic or anisotropic");
+        else throw Error("--anisotropy", "'" + a + "' is not auto, isotropic or anisotropic");
     }
     recipe.writer.phi_count = whole_flag(cl, "--phi", recipe.writer.phi_count, 3);
     recipe.writer.theta_count = whole_flag(cl, "--theta", recipe.writer.theta_count, 2);
@@ -158,10 +178,10 @@ int run_synth(const std::vector<std::string>& args) {
     if (recipe.writer.description.empty()) recipe.writer.description = recipe.material.name;
 
     const std::string output = cl.has("-o") ? cl.value("-o") : recipe.output;
-    if (output.empty()) throw Error("npf synth", "no output file: give -o OUT.bsdf (or 'output' in the recipe)");
+    if (output.empty()) throw Error("", "no output file: give -o OUT.bsdf (or 'output' in the recipe)");
     if (recipe.material.specular.empty() && recipe.material.diffuse.empty() && recipe.material.retroreflection.empty() &&
         recipe.material.sheen.empty()) {
-        throw Error("npf synth", "the material reflects nothing: give a recipe, a Fresnel/roughness or --diffuse");
+        throw Error("", "the material reflects nothing: give a recipe, a Fresnel/roughness or --diffuse");
     }
 
     const AnalyticBrdf brdf(recipe.material);
@@ -170,7 +190,7 @@ int run_synth(const std::vector<std::string>& args) {
         recipe.writer.ndf = [copy](const Vec3& m) { return copy.eval(m); };
     }
     ProgressBar bar("synth " + output, !cl.has("--quiet"));
-    recipe.writer.progress = [&bar](double f) { bar.update(f); };
+    if (bar.enabled()) recipe.writer.progress = [&bar](double f) { bar.update(f); };
     const RglWriteReport report = write_rgl(brdf, output, recipe.writer);
     bar.finish();
     std::printf("wrote %s: %s, %s, %zu phi_i x %zu theta_i, %.1f MiB, %.1f s\n", output.c_str(),

@@ -24,17 +24,17 @@ CommandLine::CommandLine(const std::string& command, const std::vector<std::stri
         for (const FlagSpec& f : flags) {
             if (f.name == name) spec = &f;
         }
-        if (!spec) throw Error("npf " + command, "unknown option '" + name + "' (see npf " + command + " --help)");
+        if (!spec) throw Error("", "unknown option '" + name + "' (see npf " + command + " --help)");
         if (spec->takes_value) {
             if (has_inline) {
                 m_values[name] = inline_value;
             } else if (i + 1 < args.size()) {
                 m_values[name] = args[++i];
             } else {
-                throw Error("npf " + command, "option '" + name + "' needs a value");
+                throw Error(name, "needs a value");
             }
         } else {
-            if (has_inline) throw Error("npf " + command, "option '" + name + "' takes no value");
+            if (has_inline) throw Error(name, "takes no value");
             m_values[name] = "";
         }
     }

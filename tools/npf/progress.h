@@ -12,6 +12,7 @@ public:
     ProgressBar(std::string label, bool enabled);
     void update(double fraction);  // 0..1, from one thread
     void finish();
+    bool enabled() const { return m_enabled; }
 
 private:
     std::string m_label;

@@ -10,6 +10,9 @@
 
 namespace npf {
 
+// The wavelengths written when neither a recipe nor a flag says: the RGL database's range.
+extern const char* const kDefaultWavelengths;  // "360:1000:195"
+
 struct MaterialRecipe {
     AnalyticMaterial material;
     RglWriterOptions writer;   // channels, grid sizes, anisotropy; ndf/progress left empty
