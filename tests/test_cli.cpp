@@ -645,7 +645,7 @@ TEST(CliEval, MissingFiles) {
     const std::string missing_dirs = folder() + "/missing_dirs.txt";
     r = run_npf({"eval", materials().rgb, "--dirs", missing_dirs});
     EXPECT_EQ(r.status, 1) << describe(r);
-    EXPECT_TRUE(contains(r.err, missing_dirs + ": cannot open direction file")) << describe(r);
+    EXPECT_TRUE(contains(r.err, missing_dirs + ": cannot open: file not found")) << describe(r);
 
     r = run_npf({"eval", materials().rgb, "--dirs", folder()});
     EXPECT_EQ(r.status, 1) << describe(r);

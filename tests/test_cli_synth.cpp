@@ -402,7 +402,7 @@ TEST(CliSynthErrors, RecipeSyntaxError) {
     EXPECT_TRUE(contains(r2.err, folder + "/bad.yaml:3: key 'alpha': roughness must lie in [1e-4, 4]")) << describe(r2);
     EXPECT_EQ(folder_entries(folder), std::vector<std::string>{"bad.yaml"});
 
-    expect_failure("missing_recipe", {"--recipe", "@OUT@/none.yaml"}, "none.yaml: cannot open the recipe: no such file");
+    expect_failure("missing_recipe", {"--recipe", "@OUT@/none.yaml"}, "none.yaml: cannot open: file not found");
     expect_failure("dir_recipe", {"--recipe", "@OUT@"}, ": is a directory, not a recipe");
 }
 

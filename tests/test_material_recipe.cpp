@@ -629,7 +629,7 @@ TEST(MaterialRecipeErrors, LoadingFiles) {
         npf::load_material_recipe(dir + "/missing.yaml");
         ADD_FAILURE() << "no error for a missing recipe";
     } catch (const npf::Error& e) {
-        EXPECT_EQ(std::string(e.what()), dir + "/missing.yaml: cannot open the recipe: no such file");
+        EXPECT_EQ(std::string(e.what()), dir + "/missing.yaml: cannot open: file not found");
     }
     try {
         npf::load_material_recipe(dir);

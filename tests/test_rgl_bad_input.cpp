@@ -395,7 +395,7 @@ TEST(RglBadInputContainer, DirectoryInsteadOfFile) {
 }
 
 TEST(RglBadInputContainer, NonExistentPath) {
-    expect_rejected(folder() + "/does_not_exist.bsdf", "cannot open: No such file or directory");
+    expect_rejected(folder() + "/does_not_exist.bsdf", "cannot open: file not found");
     expect_rejected(folder() + "/no_such_folder/x.bsdf", "cannot open");
 }
 

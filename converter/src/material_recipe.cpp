@@ -2,6 +2,7 @@
 
 #include <npf/converter/data_files.h>
 #include <npf/core/error.h>
+#include <npf/core/input_file.h>
 
 #include <yaml-cpp/yaml.h>
 
@@ -10,7 +11,6 @@
 #include <fstream>
 #include <set>
 #include <sstream>
-#include <sys/stat.h>
 
 namespace npf {
 
@@ -338,9 +338,7 @@ MaterialRecipe parse_material_recipe(const std::string& yaml, const std::string&
 }
 
 MaterialRecipe load_material_recipe(const std::string& path) {
-    struct stat st;
-    if (::stat(path.c_str(), &st) != 0) throw Error(path, "cannot open the recipe: no such file");
-    if (S_ISDIR(st.st_mode)) throw Error(path, "is a directory, not a recipe");
+    require_regular_file(path, "a recipe");
     std::ifstream in(path);
     if (!in) throw Error(path, "cannot open the recipe");
     std::stringstream ss;

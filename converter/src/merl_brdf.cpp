@@ -6,6 +6,7 @@
 
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/core/input_file.h>
 
 #include <algorithm>
 #include <cmath>
@@ -229,18 +230,7 @@ bool MerlBrdf::looks_like_merl(const std::uint8_t* head, std::size_t head_size,
 }
 
 std::unique_ptr<MerlBrdf> MerlBrdf::load(const std::string& path, MerlOptions opts) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    if (!fs::exists(status)) {
-        if (ec && ec != std::errc::no_such_file_or_directory)
-            throw Error(path, "cannot access file: " + ec.message());
-        throw Error(path, "file not found");
-    }
-    if (fs::is_directory(status)) throw Error(path, "is a directory, not a MERL file");
-    if (!fs::is_regular_file(status)) throw Error(path, "not a regular file");
-    const std::uint64_t file_size = fs::file_size(path, ec);
-    if (ec) throw Error(path, "cannot read file size: " + ec.message());
+    const std::uint64_t file_size = require_regular_file(path, "a MERL file");
     if (file_size == 0) throw Error(path, "file is empty");
 
     std::ifstream in(path, std::ios::binary);
@@ -321,7 +311,7 @@ std::unique_ptr<MerlBrdf> MerlBrdf::load(const std::string& path, MerlOptions op
     info.format = "merl";
     info.path = path;
     // MERL files carry no description; the material's name is the file name.
-    info.description = fs::path(path).stem().string();
+    info.description = std::filesystem::path(path).stem().string();
     info.isotropic = true;
     info.channels = Channels::rgb();
     info.file_bytes = file_size;

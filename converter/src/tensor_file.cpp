@@ -1,13 +1,13 @@
 #include <npf/converter/tensor_file.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/core/input_file.h>
 
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
-#include <sys/stat.h>
 
 namespace npf {
 
@@ -122,14 +122,10 @@ bool TensorFile::has_magic(const void* data, std::size_t size) {
 }
 
 TensorFile TensorFile::read(const std::string& path) {
-    struct stat st;
-    if (::stat(path.c_str(), &st) != 0) {
-        throw Error(path, std::string("cannot open: ") + std::strerror(errno));
-    }
-    if (S_ISDIR(st.st_mode)) throw Error(path, "is a directory, not a file");
+    const std::uint64_t size = require_regular_file(path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(st.st_size));
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
     if (!bytes.empty() && !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()))) {
         throw Error(path, "read error");
     }

@@ -1,6 +1,7 @@
 // SampledSpectrum and the two-column spectrum files (.spd).
 #include <npf/color/spectrum.h>
 #include <npf/core/error.h>
+#include <npf/core/input_file.h>
 
 #include <algorithm>
 #include <cmath>
@@ -73,16 +74,7 @@ std::vector<double> SampledSpectrum::sample(const std::vector<float>& wavelength
 }
 
 SampledSpectrum read_spd(const std::string& path) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    if (!fs::exists(status)) {
-        if (ec && ec != std::errc::no_such_file_or_directory)
-            throw Error(path, "cannot access file: " + ec.message());
-        throw Error(path, "file not found");
-    }
-    if (fs::is_directory(status)) throw Error(path, "is a directory, not a spectrum file");
-    if (!fs::is_regular_file(status)) throw Error(path, "not a regular file");
+    require_regular_file(path, "a spectrum file");
     std::ifstream in(path);
     if (!in) throw Error(path, "cannot open file for reading");
 

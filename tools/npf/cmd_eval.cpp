@@ -5,6 +5,7 @@
 
 #include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
+#include <npf/core/input_file.h>
 
 #include <cerrno>
 #include <cmath>
@@ -13,7 +14,6 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
-#include <sys/stat.h>
 
 namespace npf::cli {
 
@@ -80,9 +80,7 @@ int run_eval(const std::vector<std::string>& args) {
     const std::string dirs = cl.value("--dirs", "-");
     std::ifstream file;
     if (dirs != "-") {
-        struct stat st;
-        if (::stat(dirs.c_str(), &st) != 0) throw Error(dirs, std::string("cannot open direction file: ") + std::strerror(errno));
-        if (S_ISDIR(st.st_mode)) throw Error(dirs, "is a directory, not a direction file");
+        require_regular_file(dirs, "a direction file");
         file.open(dirs);
         if (!file) throw Error(dirs, "cannot open direction file");
     }
