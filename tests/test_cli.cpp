@@ -3,6 +3,7 @@
 // and standard error are checked. Values printed by `npf eval` are compared with the same
 // evaluation done in-process through RglBrdf.
 
+#include "run_tool.h"
 #include "synthetic_rgl.h"
 
 #include <npf/converter/rgl_brdf.h>
@@ -25,7 +26,6 @@
 #include <vector>
 
 #include <sys/stat.h>
-#include <sys/wait.h>
 
 namespace {
 
@@ -41,71 +41,22 @@ const std::string& folder() {
     return dir;
 }
 
-std::string read_text(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream os;
-    os << in.rdbuf();
-    return os.str();
-}
+using npf::testing::contains;
+using npf::testing::describe;
+using npf::testing::has_line;
+using npf::testing::lines_of;
+using npf::testing::read_text;
+using npf::testing::ToolRun;
 
 void write_text(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << text;
-    ASSERT_TRUE(out.good()) << "cannot write " << path;
+    ASSERT_TRUE(npf::testing::write_text(path, text)) << "cannot write " << path;
 }
-
-std::string shell_quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-struct ToolRun {
-    int status = -1;  // exit status; -1 if the process did not exit normally
-    std::string out, err;
-    std::string command;
-};
 
 // Runs `npf args...` with `stdin_text` (or nothing) on standard input.
 ToolRun run_npf(const std::vector<std::string>& args, const std::optional<std::string>& stdin_text = std::nullopt) {
-    static int counter = 0;
-    const std::string base = folder() + "/run" + std::to_string(++counter);
-    std::string in_path = "/dev/null";
-    if (stdin_text) {
-        in_path = base + ".in";
-        write_text(in_path, *stdin_text);
-    }
-    ToolRun r;
-    r.command = shell_quote(NPF_TOOL_PATH);
-    for (const std::string& a : args) r.command += " " + shell_quote(a);
-    const std::string full = r.command + " <" + shell_quote(in_path) + " >" + shell_quote(base + ".out") + " 2>" +
-                             shell_quote(base + ".err");
-    const int rc = std::system(full.c_str());
-    r.status = (rc != -1 && WIFEXITED(rc)) ? WEXITSTATUS(rc) : -1;
-    r.out = read_text(base + ".out");
-    r.err = read_text(base + ".err");
-    return r;
-}
-
-std::string describe(const ToolRun& r) {
-    return "command: " + r.command + "\nstatus: " + std::to_string(r.status) + "\nstdout:\n" + r.out +
-           "\nstderr:\n" + r.err;
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-std::vector<std::string> lines_of(const std::string& text) {
-    std::vector<std::string> lines;
-    std::istringstream is(text);
-    for (std::string line; std::getline(is, line);) lines.push_back(line);
-    return lines;
-}
-
-bool has_line(const std::string& text, const std::string& line) {
-    for (const std::string& l : lines_of(text)) {
-        if (l == line) return true;
-    }
-    return false;
+    npf::testing::ToolRunOptions options;
+    options.stdin_text = stdin_text;
+    return npf::testing::run_tool(args, options);
 }
 
 // ---- Material files shared by the tests ---------------------------------------------------

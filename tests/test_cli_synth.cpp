@@ -49,19 +49,8 @@ ToolRun synth(const std::vector<std::string>& args, const std::string& threads =
     return npf::testing::run_tool(all, options);
 }
 
-std::vector<std::string> lines_of(const std::string& text) {
-    std::vector<std::string> lines;
-    std::istringstream is(text);
-    for (std::string line; std::getline(is, line);) lines.push_back(line);
-    return lines;
-}
-
-bool has_line(const std::string& text, const std::string& line) {
-    for (const std::string& l : lines_of(text)) {
-        if (l == line) return true;
-    }
-    return false;
-}
+using npf::testing::has_line;
+using npf::testing::lines_of;
 
 // `npf info path`, checked to succeed.
 std::string info(const std::string& path) {

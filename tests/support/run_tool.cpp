@@ -79,4 +79,18 @@ std::string describe(const ToolRun& r) {
            r.err;
 }
 
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream is(text);
+    for (std::string line; std::getline(is, line);) lines.push_back(line);
+    return lines;
+}
+
+bool has_line(const std::string& text, const std::string& line) {
+    for (const std::string& l : lines_of(text)) {
+        if (l == line) return true;
+    }
+    return false;
+}
+
 }  // namespace npf::testing

@@ -31,6 +31,9 @@ std::string read_text(const std::string& path);
 // Writes `text` to `path` (truncating); returns false on failure.
 bool write_text(const std::string& path, const std::string& text);
 bool contains(const std::string& text, const std::string& part);
+// The lines of `text` (without their newlines), and whether one of them is exactly `line`.
+std::vector<std::string> lines_of(const std::string& text);
+bool has_line(const std::string& text, const std::string& line);
 // The names in a folder (not "." and ".."), sorted.
 std::vector<std::string> folder_entries(const std::string& dir);
 
