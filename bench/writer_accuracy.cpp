@@ -106,10 +106,7 @@ int main(int argc, char** argv) {
                 o.theta_count = g.theta;
                 o.vndf_size = g.vndf;
                 o.data_size = g.data;
-                if (const npf::MicrofacetNdf* ndf = analytic_ndf ? source.single_ndf() : nullptr) {
-                    const npf::MicrofacetNdf copy = *ndf;
-                    o.ndf = [copy](const npf::Vec3& m) { return copy.eval(m); };
-                }
+                if (analytic_ndf) o.ndf = source.ndf_function();
                 const std::string path = folder + "/" + name + ".bsdf";
                 const npf::RglWriteReport report = npf::write_rgl(source, path, o);
                 const auto file = npf::RglBrdf::load(path);

@@ -62,10 +62,7 @@ RglWriterOptions small_grid(const Channels& channels) {
 }
 
 std::string write(const AnalyticBrdf& brdf, const std::string& name, RglWriterOptions o) {
-    if (const npf::MicrofacetNdf* ndf = brdf.single_ndf()) {
-        const npf::MicrofacetNdf copy = *ndf;
-        o.ndf = [copy](const Vec3& m) { return copy.eval(m); };
-    }
+    o.ndf = brdf.ndf_function();
     const std::string path = folder() + "/" + name + ".bsdf";
     npf::write_rgl(brdf, path, o);
     return path;

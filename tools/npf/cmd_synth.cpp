@@ -185,10 +185,7 @@ int run_synth(const std::vector<std::string>& args) {
     }
 
     const AnalyticBrdf brdf(recipe.material);
-    if (const MicrofacetNdf* ndf = brdf.single_ndf()) {
-        const MicrofacetNdf copy = *ndf;
-        recipe.writer.ndf = [copy](const Vec3& m) { return copy.eval(m); };
-    }
+    recipe.writer.ndf = brdf.ndf_function();
     ProgressBar bar("synth " + output, !cl.has("--quiet"));
     if (bar.enabled()) recipe.writer.progress = [&bar](double f) { bar.update(f); };
     const RglWriteReport report = write_rgl(brdf, output, recipe.writer);

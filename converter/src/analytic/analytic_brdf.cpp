@@ -388,4 +388,11 @@ const MicrofacetNdf* AnalyticBrdf::single_ndf() const {
     return nullptr;
 }
 
+std::function<float(const Vec3&)> AnalyticBrdf::ndf_function() const {
+    const MicrofacetNdf* ndf = single_ndf();
+    if (!ndf) return {};
+    const MicrofacetNdf copy = *ndf;
+    return [copy](const Vec3& m) { return copy.eval(m); };
+}
+
 }  // namespace npf

@@ -33,6 +33,7 @@
 #include <npf/core/brdf.h>
 
 #include <array>
+#include <functional>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -76,6 +77,9 @@ public:
     // The NDF of a material with exactly one specular lobe (for writers that tabulate it), or
     // nullptr.
     const MicrofacetNdf* single_ndf() const;
+    // The same as a callable for RglWriterOptions::ndf (a copy, independent of this object), or
+    // an empty function when there is no single NDF.
+    std::function<float(const Vec3&)> ndf_function() const;
 
 private:
     // The material's spectra looked up once at a fixed list of wavelengths (empty vectors
