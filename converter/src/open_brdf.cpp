@@ -4,10 +4,13 @@
 #include <npf/converter/tensor_file.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
+#include <npf/shading/npf_brdf.h>
+#include <npf/shading/npf_texture_file.h>
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <memory>
 
 namespace npf {
 
@@ -21,7 +24,9 @@ std::unique_ptr<Brdf> open_brdf(const std::string& path) {
     const std::size_t got = std::size_t(in.gcount());
     if (TensorFile::has_magic(head, got)) return RglBrdf::load(path);
     if (MerlBrdf::looks_like_merl(head, got, size)) return MerlBrdf::load(path);
-    throw Error(path, "unknown material format (neither an RGL tensor_file nor a MERL .binary)");
+    // Any OpenEXR file is taken for an NPF texture: the reader says what is missing if it is not.
+    if (has_exr_magic(head, got)) return std::make_unique<NpfBrdf>(path);
+    throw Error(path, "unknown material format (not an RGL tensor_file, a MERL .binary or an NPF texture .exr)");
 }
 
 }  // namespace npf

@@ -31,6 +31,7 @@ std::string human_bytes(std::uint64_t n) {
 std::string format_name(const std::string& f) {
     if (f == "rgl") return "RGL measured BRDF (tensor_file 1.0, .bsdf)";
     if (f == "merl") return "MERL measured BRDF (.binary)";
+    if (f == "npf-exr") return "NPF factor texture (OpenEXR, .exr; docs/format.md)";
     return f;
 }
 

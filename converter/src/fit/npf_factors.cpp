@@ -55,11 +55,19 @@ double NpfFactors::eval(std::size_t c, const Vec3d& wi, const Vec3d& wo) const {
                              periodic(a.phi_h / kTwoPi * grid.phi_h, grid.phi_h));
     const Lerp fl = clamped(a.theta_d / kHalfPi * grid.theta_d, grid.theta_d);
     const double fv = f[fl.i0] * (1 - fl.t) + f[fl.i1] * fl.t;
+    // G: bilinear between cell centres, flat below the first theta centre, and beyond the last
+    // one continued along the line through the last two rows towards the horizon (never below
+    // 0): the fit's own interpolation (fit/sample_set.h), which lets G fall to 0 at grazing.
     auto gv = [&](const Vec3d& w) {
         const double theta = std::acos(std::clamp(w.z, -1.0, 1.0));
         double phi = std::atan2(w.y, w.x);
         if (phi < 0.0) phi += kTwoPi;
-        return table2(g, g_phi, clamped(theta / kHalfPi * g_theta, g_theta), periodic(phi / kTwoPi * g_phi, g_phi));
+        const Lerp col = periodic(phi / kTwoPi * g_phi, g_phi);
+        const double x = std::max(0.0, theta / kHalfPi * g_theta - 0.5);
+        const int r0 = std::min(int(x), g_theta - 2);
+        const double t = x - r0;  // > 1 beyond the last centre: extrapolation
+        auto row = [&](int i) { return double(g[i * g_phi + col.i0]) * (1 - col.t) + double(g[i * g_phi + col.i1]) * col.t; };
+        return std::max(0.0, row(r0) * (1 - t) + row(r0 + 1) * t);
     };
     return rho_d[c] + rho_s[c] * dv * fv * gv(wi) * gv(wo) / (wi.z * wo.z);
 }

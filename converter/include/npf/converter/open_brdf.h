@@ -8,7 +8,8 @@
 
 namespace npf {
 
-// RGL `.bsdf` (tensor_file magic) or MERL `.binary` (its header and exact size). Throws
+// RGL `.bsdf` (tensor_file magic), MERL `.binary` (its header and exact size) or NPF factor
+// texture (OpenEXR magic, then the npf:format_version attribute; docs/format.md). Throws
 // npf::Error naming the file when it is missing, a directory, empty, of an unknown format or
 // malformed.
 std::unique_ptr<Brdf> open_brdf(const std::string& path);

@@ -1,7 +1,13 @@
 // Fitting the NPF factors to any BRDF source by alternating weighted least squares (paper
 // sec. 3.2 and 3.3): the source is resampled on the uniform Rusinkiewicz grid, each sample
 // weighted by w = w_V w_I w_C, and every factor is updated in closed form per table cell (paper
-// Eq. 10) in the order D, F, G, rho_d, rho_s until the weighted error stops falling.
+// Eq. 10) in the order D (jointly with rho_d), F, G, then (rho_d, rho_s) jointly, until the
+// weighted error stops falling.
+//
+// Speed (docs/fitting.md): the geometry of the samples (cells, weights, cosines) is computed
+// once and shared by every channel; channels are fitted in blocks of 16 (4 for RGB) that run
+// in lock-step through the same passes, one SIMD lane per channel; each block starts from the
+// converged factors of the previous one; the passes run on all threads.
 #pragma once
 
 #include <npf/converter/fit/npf_factors.h>
@@ -13,25 +19,44 @@
 
 namespace npf {
 
+// w_V: the paper's anisotropic volume form (Eq. 4 with the sqrt-map Jacobian), or Bagher et
+// al.'s three-angle form for comparison (paper Table 1; see docs/fitting.md for our reading).
+enum class VolumeWeight { Paper, ThreeAngle };
+
 struct AwlsOptions {
     RusinkiewiczGrid grid{90, 180, 90, 180};  // phi_h = 1 for isotropic sources
     int g_theta = 90, g_phi = 180;              // G table; g_phi = 1 for isotropic sources
     Channels channels = Channels::rgb();
-    // w_I: cos(theta_i) cos(theta_o) to this power (0 disables); w_C = (rho + epsilon)^-p.
+    // Samples per (theta_h, phi_h, theta_d) ring of phi_d: 0 takes grid.phi_d (every cell
+    // centre). Fewer samples, stratified with a rotation per ring, trade accuracy for time and
+    // memory on the 4D anisotropic grid; the factor tables keep their full resolution.
+    int phi_d_samples = 0;
+    VolumeWeight volume_weight = VolumeWeight::Paper;
+    // w_I = (cos theta_i cos theta_o)^importance_power (0 disables);
+    // w_C = (max(rho, 0) + compressive_epsilon)^-compressive_power (0 disables).
     double importance_power = 1.0;
     double compressive_power = 0.0;
     double compressive_epsilon = 0.01;
+    // Line-search extrapolation after each sweep (docs/fitting.md): fewer sweeps to the same
+    // error; off gives the paper's plain alternation.
+    bool extrapolate = true;
+    // Start G from Smith's masking of the first D estimate (docs/fitting.md): the factors then
+    // take the physically meaningful split between F and G, which the data hardly constrain.
+    bool smith_start = true;
     int max_iterations = 300;
     double tolerance = 1e-5;      // stop when the weighted error falls by less than this, relative
     int threads = 0;              // 0: all hardware threads
+    // Called with the fraction done in [0, 1] (from the calling thread only).
     std::function<void(double)> progress;
 };
 
 struct AwlsReport {
-    std::size_t samples = 0;                 // grid samples with both directions above the horizon
-    std::vector<int> iterations;             // per channel
+    std::size_t samples = 0;                 // samples with both directions above the horizon
+    std::size_t invalid_values = 0;          // NaN or infinite source values, given zero weight
+    std::vector<int> iterations;             // per channel (its block's count)
     std::vector<double> relative_error;      // per channel: sqrt(sum w (rho - model)^2 / sum w rho^2)
-    double seconds = 0.0;
+    double seconds_geometry = 0.0, seconds_resampling = 0.0, seconds_fitting = 0.0;
+    double seconds = 0.0;                    // all of it
 };
 
 // Throws npf::Error for bad options or a source that cannot give the channels.

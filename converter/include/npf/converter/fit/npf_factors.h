@@ -31,8 +31,10 @@ struct NpfFactors {
     std::size_t d_size() const { return std::size_t(grid.theta_h) * std::size_t(grid.phi_h); }
     std::size_t g_size() const { return std::size_t(g_theta) * std::size_t(g_phi); }
 
-    // rho(wi, wo) of channel c by bilinear interpolation of the tables (periodic in phi,
-    // clamped in theta); 0 when a direction is at or below the horizon.
+    // rho(wi, wo) of channel c by bilinear interpolation of the tables on their cell centres
+    // (periodic in phi, clamped in theta, except G beyond its last theta centre, which follows
+    // the line through its last two rows to the horizon, never below 0); 0 when a direction
+    // is at or below the horizon.
     double eval(std::size_t c, const Vec3d& wi, const Vec3d& wo) const;
 };
 

@@ -1,0 +1,204 @@
+// The NPF factor texture writer (layout: docs/format.md, names: npf/shading/npf_texture_layout.h).
+#include <npf/converter/npf_texture_writer.h>
+
+#include <npf/core/atomic_file.h>
+#include <npf/core/error.h>
+#include <npf/shading/npf_texture_layout.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
+#include <exception>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace npf {
+
+namespace {
+
+namespace layout = npf_exr;
+using OIIO::ImageSpec;
+
+// One part: its header and its pixels, interleaved [y][x][channel].
+struct PartData {
+    ImageSpec spec;
+    std::vector<float> pixels;
+};
+
+// A part of `width` x `height` pixels. Every part of a multi-part file must have the same
+// display window (OpenEXR): D's grid, `display_width` x `display_height` (docs/format.md sec. 6).
+PartData make_part(const char* name, int width, int height, const std::vector<std::string>& channels,
+                   int display_width, int display_height) {
+    PartData p;
+    p.spec = ImageSpec(width, height, int(channels.size()), OIIO::TypeFloat);
+    p.spec.channelnames = channels;
+    p.spec.alpha_channel = -1;  // none of our channels is alpha or depth
+    p.spec.z_channel = -1;
+    p.spec.full_x = 0;
+    p.spec.full_y = 0;
+    p.spec.full_width = display_width;
+    p.spec.full_height = display_height;
+    p.spec.attribute("oiio:subimagename", name);
+    p.spec.attribute("compression", "zip");
+    p.pixels.assign(std::size_t(width) * std::size_t(height) * channels.size(), 0.f);
+    return p;
+}
+
+// Writes the values of channel `channel` (one per pixel, in scanline order).
+void put_channel(PartData& p, std::size_t channel, const float* values) {
+    const std::size_t n = std::size_t(p.spec.width) * std::size_t(p.spec.height), stride = p.spec.channelnames.size();
+    for (std::size_t i = 0; i < n; ++i) p.pixels[i * stride + channel] = values[i];
+}
+
+std::vector<std::string> family(const char* prefix, std::size_t count) {
+    std::vector<std::string> names;
+    for (std::size_t k = 0; k < count; ++k) names.push_back(layout::indexed_channel(prefix, k, count));
+    return names;
+}
+
+std::string numbers_text(const std::vector<double>& v) {
+    std::string text;
+    char buf[32];
+    for (std::size_t k = 0; k < v.size(); ++k) {
+        std::snprintf(buf, sizeof buf, k ? " %.17g" : "%.17g", v[k]);
+        text += buf;
+    }
+    return text;
+}
+
+void check_metadata(const NpfModel& m, const std::string& path) {
+    std::set<std::string> seen;
+    for (const auto& [key, value] : m.metadata) {
+        if (key.empty()) throw Error(path, "a metadata key is empty");
+        if (key.size() > 200) throw Error(path, "metadata key '" + key.substr(0, 40) + "...' is longer than 200 bytes");
+        for (unsigned char ch : key) {
+            if (ch < 0x20 || ch == 0x7f) throw Error(path, "metadata key '" + key + "' holds a control character");
+        }
+        if (!seen.insert(key).second) throw Error(path, "metadata key '" + key + "' appears twice");
+        if (value.find('\0') != std::string::npos) throw Error(path, "metadata value of '" + key + "' holds a NUL byte");
+    }
+}
+
+void put_file_attributes(const NpfModel& m, ImageSpec& spec) {
+    spec.attribute(layout::kAttrVersion, layout::kFormatVersion);
+    spec.attribute(layout::kAttrChannelKind, m.channels.is_rgb() ? "rgb" : "spectral");
+    spec.attribute(layout::kAttrChannelCount, int(m.channel_count()));
+    spec.attribute(layout::kAttrIsotropic, m.isotropic() ? 1 : 0);
+    spec.attribute(layout::kAttrDTheta, m.d_theta);
+    spec.attribute(layout::kAttrDPhi, m.d_phi);
+    spec.attribute(layout::kAttrFTheta, m.f_theta);
+    spec.attribute(layout::kAttrGTheta, m.g_theta);
+    spec.attribute(layout::kAttrGPhi, m.g_phi);
+    spec.attribute(layout::kAttrDRank, m.D.rank);
+    spec.attribute(layout::kAttrGRank, m.G.rank);
+    spec.attribute(layout::kAttrDKeptRatio, OIIO::TypeDesc::DOUBLE, &m.D.kept_ratio);
+    spec.attribute(layout::kAttrGKeptRatio, OIIO::TypeDesc::DOUBLE, &m.G.kept_ratio);
+    spec.attribute(layout::kAttrDSingularValues, numbers_text(m.D.singular_values));
+    spec.attribute(layout::kAttrGSingularValues, numbers_text(m.G.singular_values));
+    if (!m.metadata.empty()) {
+        std::string keys;
+        for (const auto& [key, value] : m.metadata) {
+            if (!keys.empty()) keys += '\n';
+            keys += key;
+            spec.attribute(std::string(layout::kMetadataPrefix) + key, value);
+        }
+        spec.attribute(layout::kAttrMetadataKeys, keys);
+    }
+}
+
+void put_axes(PartData& p, const char* x, const char* y) {
+    p.spec.attribute(layout::kAttrXAxis, x);
+    p.spec.attribute(layout::kAttrYAxis, y);
+}
+
+std::vector<PartData> make_parts(const NpfModel& m) {
+    const std::size_t C = m.channel_count();
+    const int dw = m.d_phi, dh = m.d_theta;  // the shared display window
+    std::vector<PartData> parts;
+
+    PartData d = make_part(layout::kPartD, m.d_phi, m.d_theta, family(layout::kDBasis, std::size_t(m.D.rank)), dw, dh);
+    for (int k = 0; k < m.D.rank; ++k) put_channel(d, std::size_t(k), m.D.basis.data() + std::size_t(k) * m.D.cells);
+    d.spec.attribute("wrapmodes", "periodic,clamp");
+    put_axes(d, "phi_h = 2 pi (x + 1/2) / width", "theta_h = (pi/2) ((y + 1/2) / height)^2");
+    put_file_attributes(m, d.spec);
+    parts.push_back(std::move(d));
+
+    PartData g = make_part(layout::kPartG, m.g_phi, m.g_theta, family(layout::kGBasis, std::size_t(m.G.rank)), dw, dh);
+    for (int k = 0; k < m.G.rank; ++k) put_channel(g, std::size_t(k), m.G.basis.data() + std::size_t(k) * m.G.cells);
+    g.spec.attribute("wrapmodes", "periodic,clamp");
+    put_axes(g, "phi = 2 pi (x + 1/2) / width", "theta = (pi/2) (y + 1/2) / height");
+    parts.push_back(std::move(g));
+
+    PartData f = make_part(layout::kPartF, m.f_theta, 1, family(layout::kFChannel, C), dw, dh);
+    for (std::size_t c = 0; c < C; ++c) put_channel(f, c, m.F.data() + c * std::size_t(m.f_theta));
+    f.spec.attribute("wrapmodes", "clamp,clamp");
+    put_axes(f, "theta_d = (pi/2) (x + 1/2) / width", "none (one row)");
+    parts.push_back(std::move(f));
+
+    std::vector<std::string> names = {layout::kWavelength, layout::kRhoD, layout::kRhoS};
+    for (const std::string& n : family(layout::kDWeight, std::size_t(m.D.rank))) names.push_back(n);
+    for (const std::string& n : family(layout::kGWeight, std::size_t(m.G.rank))) names.push_back(n);
+    PartData s = make_part(layout::kPartSpectral, int(C), 1, names, dw, dh);
+    std::vector<float> column(C);
+    for (std::size_t c = 0; c < C; ++c) column[c] = m.channels.is_rgb() ? float(c) : m.channels.wavelengths()[c];
+    put_channel(s, 0, column.data());
+    put_channel(s, 1, m.rho_d.data());
+    put_channel(s, 2, m.rho_s.data());
+    std::size_t channel = 3;
+    for (const SpectralBasis* b : {&m.D, &m.G}) {
+        for (std::size_t k = 0; k < std::size_t(b->rank); ++k, ++channel) {
+            for (std::size_t c = 0; c < C; ++c) column[c] = b->weights[c * std::size_t(b->rank) + k];
+            put_channel(s, channel, column.data());
+        }
+    }
+    s.spec.attribute("wrapmodes", "clamp,clamp");
+    put_axes(s, m.channels.is_rgb() ? "stored channel: R, G, B" : "stored wavelength, ascending", "none (one row)");
+    parts.push_back(std::move(s));
+    return parts;
+}
+
+std::string first_line(const std::string& s) {
+    const std::size_t nl = s.find('\n');
+    return nl == std::string::npos ? s : s.substr(0, nl);
+}
+
+}  // namespace
+
+void write_npf_texture(const NpfModel& model, const std::string& path) {
+    model.validate(path);
+    check_metadata(model, path);
+    const std::vector<PartData> parts = make_parts(model);
+    std::vector<ImageSpec> specs;
+    for (const PartData& p : parts) specs.push_back(p.spec);
+
+    AtomicOutput atomic(path);
+    // The temporary name does not end in .exr, so the format is named explicitly.
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("openexr");
+    if (!out) throw Error(path, "this build of OpenImageIO cannot write OpenEXR: " + first_line(OIIO::geterror()));
+    const std::string& temporary = atomic.temporary_path();
+    try {
+        if (!out->open(temporary, int(specs.size()), specs.data())) {
+            throw Error(path, "cannot create output: " + first_line(out->geterror()));
+        }
+        for (std::size_t i = 0; i < parts.size(); ++i) {
+            const std::string name(parts[i].spec.get_string_attribute("oiio:subimagename"));
+            if (i > 0 && !out->open(temporary, specs[i], OIIO::ImageOutput::AppendSubimage)) {
+                throw Error(path, "cannot start part '" + name + "': " + first_line(out->geterror()));
+            }
+            if (!out->write_image(OIIO::TypeFloat, parts[i].pixels.data())) {
+                throw Error(path, "cannot write part '" + name + "': " + first_line(out->geterror()));
+            }
+        }
+        if (!out->close()) throw Error(path, "cannot finish output: " + first_line(out->geterror()));
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(path, std::string("cannot write: ") + e.what());
+    }
+    out.reset();
+    atomic.commit();
+}
+
+}  // namespace npf

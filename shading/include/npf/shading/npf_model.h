@@ -1,0 +1,98 @@
+// A fitted NPF material as it is stored and shaded (paper Eq. 1 with the spectral compression of
+// sec. 3.4, Eqs. 11 and 12), per stored channel c (RGB, or one wavelength):
+//   f_r(wi, wo) = rho_d[c] + rho_s[c] D_c(theta_h, phi_h) F_c(theta_d) G_c(wi) G_c(wo)
+//                 / (cos theta_i cos theta_o)
+// where D and G are not stored per channel but as a few basis tables shared by all channels:
+//   D_c = max(0, sum_k D.weights[c][k] D.basis[k]),  G_c likewise.
+// At full rank that is the fitted tables again (to float precision); at lower rank it is their
+// best approximation in the least-squares sense.
+//
+// Tables and their cell centres (the fitter's grid; the same conventions as NpfFactors::eval):
+//   D  [d_theta][d_phi]  theta_h = (pi/2) ((k + 1/2) / d_theta)^2   (square-root mapped)
+//                        phi_h   = 2 pi (k + 1/2) / d_phi           (d_phi = 1: isotropic)
+//   F  [f_theta]         theta_d = (pi/2) (k + 1/2) / f_theta
+//   G  [g_theta][g_phi]  theta   = (pi/2) (k + 1/2) / g_theta,  phi as for D
+// Values between centres are bilinear, phi is periodic, theta is clamped at the outer centres,
+// except beyond G's last theta centre: there G continues along the line through its last two
+// rows (never below 0), so that it can fall to 0 at grazing angles (NpfFactors::eval's rule).
+//
+// Evaluation interpolates the basis tables first and combines them per channel afterwards (the
+// order a texture-based shader follows), so the clamp at 0 applies to the interpolated value.
+// The direction work is done once per pair (prepare) and shared by every channel (value).
+#pragma once
+
+#include <npf/core/channels.h>
+#include <npf/core/vec.h>
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace npf {
+
+// A set of tables (one per channel) written as rank basis tables and per-channel weights: the
+// truncated SVD of the cells x channels matrix, singular values folded into the weights.
+struct SpectralBasis {
+    int rank = 0;
+    std::size_t cells = 0;
+    std::vector<float> basis;     // [rank][cells], orthonormal columns of U
+    std::vector<float> weights;   // [channels][rank], sigma_k v_k(c)
+    // Every singular value of the full decomposition (min(cells, channels) of them, descending),
+    // for reporting what the truncation dropped.
+    std::vector<double> singular_values;
+    // sum_{k < rank} sigma_k^2 / sum_k sigma_k^2 (1 when every sigma is 0).
+    double kept_ratio = 1.0;
+
+    // The reconstructed table of channel c at one cell, not clamped.
+    double at(std::size_t channel, std::size_t cell) const;
+};
+
+struct NpfModel {
+    Channels channels;
+    int d_theta = 0, d_phi = 0;  // D's grid (theta_h, phi_h)
+    int f_theta = 0;             // F's grid (theta_d)
+    int g_theta = 0, g_phi = 0;  // G's grid (theta, phi)
+    std::vector<float> rho_d, rho_s;  // [C]
+    std::vector<float> F;             // [C][f_theta]
+    SpectralBasis D, G;               // D.cells = d_theta d_phi, G.cells = g_theta g_phi
+    // Free-form facts carried through the file (source, fitter settings, errors), in order.
+    std::vector<std::pair<std::string, std::string>> metadata;
+
+    std::size_t channel_count() const { return rho_d.size(); }
+    bool isotropic() const { return d_phi == 1 && g_phi == 1; }
+
+    // Throws npf::Error naming `source` when sizes disagree, a rank is out of range, a value is
+    // not finite, rho_d, rho_s or F is negative, wavelengths are not positive and strictly
+    // ascending, or singular values are not descending and non-negative.
+    void validate(const std::string& source) const;
+
+    // Ranks up to this many have their interpolated basis values cached in a Lookup; larger ranks
+    // (full-rank spectral models) are combined corner by corner, slower but the same values.
+    static constexpr int kInlineRank = 64;
+
+    // Everything about one direction pair that every channel shares.
+    struct Lookup {
+        struct Bilinear {
+            std::size_t index[4] = {0, 0, 0, 0};
+            double weight[4] = {0, 0, 0, 0};
+        };
+        double cos_i = 0.0, cos_o = 0.0;
+        Bilinear d, g_i, g_o;
+        int f0 = 0, f1 = 0;
+        double f_t = 0.0;
+        bool cached = false;  // basis values below are filled
+        double d_basis[kInlineRank], g_i_basis[kInlineRank], g_o_basis[kInlineRank];
+    };
+
+    // Fills `at` for the pair; false when either direction is at or below the horizon or not
+    // finite (f_r is then 0). Directions are unit vectors in the local frame. No allocation.
+    bool prepare(const Vec3& wi, const Vec3& wo, Lookup& at) const;
+    // f_r of stored channel c at a prepared pair.
+    double value(const Lookup& at, std::size_t c) const;
+    // f_r of every stored channel (channel_count() values); 0 below the horizon.
+    void eval_all(const Vec3& wi, const Vec3& wo, double* out) const;
+    double eval(std::size_t c, const Vec3& wi, const Vec3& wo) const;
+};
+
+}  // namespace npf

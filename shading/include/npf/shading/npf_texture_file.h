@@ -1,0 +1,25 @@
+// Reading NPF factor textures: the multi-part OpenEXR files of docs/format.md.
+#pragma once
+
+#include <npf/shading/npf_model.h>
+
+#include <cstddef>
+#include <string>
+
+namespace npf {
+
+// Reads and checks the whole file. Throws npf::Error naming `path` and the problem: a missing
+// file, not an OpenEXR file, an OpenEXR file without the NPF attributes, an unknown format
+// version, a missing part or channel, sizes that disagree with the attributes, a truncated or
+// corrupt file, non-finite values, or negative values where the model has none.
+NpfModel read_npf_texture(const std::string& path);
+
+// A cheap sniff that never throws: true when `path` starts with the OpenEXR magic number and its
+// part "D" carries an integer npf:format_version (of any value; read_npf_texture judges it).
+// Only headers are read.
+bool is_npf_texture(const std::string& path);
+
+// The OpenEXR magic number (0x762f3101, little-endian) at the start of `head`.
+bool has_exr_magic(const unsigned char* head, std::size_t size);
+
+}  // namespace npf

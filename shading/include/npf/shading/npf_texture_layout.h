@@ -1,0 +1,62 @@
+// Names in an NPF factor texture (docs/format.md): the one place the writer (converter) and the
+// reader (shading) take part, channel and attribute names from.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace npf::npf_exr {
+
+constexpr int kFormatVersion = 1;
+
+// Parts, in the order they are written.
+constexpr const char* kPartD = "D";
+constexpr const char* kPartG = "G";
+constexpr const char* kPartF = "F";
+constexpr const char* kPartSpectral = "spectral";
+
+// Channels of the "spectral" part besides the weights.
+constexpr const char* kWavelength = "wavelength";
+constexpr const char* kRhoD = "rho_d";
+constexpr const char* kRhoS = "rho_s";
+
+// File-wide attributes, in the header of part "D".
+constexpr const char* kAttrVersion = "npf:format_version";     // int
+constexpr const char* kAttrChannelKind = "npf:channel_kind";    // string "rgb" | "spectral"
+constexpr const char* kAttrChannelCount = "npf:channel_count";  // int
+constexpr const char* kAttrIsotropic = "npf:isotropic";         // int 0 | 1
+constexpr const char* kAttrDTheta = "npf:d_theta";              // ints: grid sizes
+constexpr const char* kAttrDPhi = "npf:d_phi";
+constexpr const char* kAttrFTheta = "npf:f_theta";
+constexpr const char* kAttrGTheta = "npf:g_theta";
+constexpr const char* kAttrGPhi = "npf:g_phi";
+constexpr const char* kAttrDRank = "npf:d_rank";                // ints
+constexpr const char* kAttrGRank = "npf:g_rank";
+constexpr const char* kAttrDKeptRatio = "npf:d_kept_ratio";     // doubles
+constexpr const char* kAttrGKeptRatio = "npf:g_kept_ratio";
+constexpr const char* kAttrDSingularValues = "npf:d_singular_values";  // string of %.17g numbers
+constexpr const char* kAttrGSingularValues = "npf:g_singular_values";
+constexpr const char* kAttrMetadataKeys = "npf:metadata_keys";  // string, keys joined by '\n'
+constexpr const char* kMetadataPrefix = "npf:meta:";            // + key: string value
+// Per part (informative; readers rely on the grid sizes above): what x and y index.
+constexpr const char* kAttrXAxis = "npf:x_axis";
+constexpr const char* kAttrYAxis = "npf:y_axis";
+
+// Indexed channel names, zero-padded to at least three digits so that OpenEXR's name-sorted
+// channel lists keep numeric order: indexed_channel("D.u", 3, 20) = "D.u003".
+inline std::string indexed_channel(const char* prefix, std::size_t index, std::size_t count) {
+    std::size_t digits = 3;
+    for (std::size_t n = count > 0 ? count - 1 : 0; n >= 1000; n /= 10) ++digits;
+    std::string number = std::to_string(index);
+    if (number.size() < digits) number.insert(0, digits - number.size(), '0');
+    return prefix + number;
+}
+
+// Channel families.
+constexpr const char* kDBasis = "D.u";    // part D: basis tables
+constexpr const char* kGBasis = "G.u";    // part G: basis tables
+constexpr const char* kFChannel = "F.c";  // part F: one channel per stored channel
+constexpr const char* kDWeight = "D.v";   // part spectral: weights of the D basis
+constexpr const char* kGWeight = "G.v";   // part spectral: weights of the G basis
+
+}  // namespace npf::npf_exr

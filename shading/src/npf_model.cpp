@@ -1,0 +1,266 @@
+#include <npf/shading/npf_model.h>
+
+#include <npf/core/error.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace npf {
+
+namespace {
+
+constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
+
+// Interpolation position on cell centres: x in cell units (centre of cell k at k + 1/2).
+struct Lerp {
+    int i0 = 0, i1 = 0;
+    double t = 0.0;
+};
+
+Lerp clamped(double x, int n) {
+    Lerp l;
+    const double c = std::clamp(x - 0.5, 0.0, double(n - 1));
+    l.i0 = std::min(int(c), n - 1);
+    l.i1 = std::min(l.i0 + 1, n - 1);
+    l.t = c - l.i0;
+    return l;
+}
+
+Lerp periodic(double x, int n) {
+    Lerp l;
+    double c = x - 0.5;
+    c -= std::floor(c / n) * n;
+    l.i0 = std::min(int(c), n - 1);
+    l.i1 = (l.i0 + 1) % n;
+    l.t = c - l.i0;
+    return l;
+}
+
+NpfModel::Lookup::Bilinear bilinear(const Lerp& row, const Lerp& col, int cols) {
+    NpfModel::Lookup::Bilinear b;
+    const std::size_t r0 = std::size_t(row.i0) * std::size_t(cols), r1 = std::size_t(row.i1) * std::size_t(cols);
+    b.index[0] = r0 + std::size_t(col.i0);
+    b.index[1] = r0 + std::size_t(col.i1);
+    b.index[2] = r1 + std::size_t(col.i0);
+    b.index[3] = r1 + std::size_t(col.i1);
+    b.weight[0] = (1 - row.t) * (1 - col.t);
+    b.weight[1] = (1 - row.t) * col.t;
+    b.weight[2] = row.t * (1 - col.t);
+    b.weight[3] = row.t * col.t;
+    return b;
+}
+
+// Angle from +z and azimuth in [0, 2 pi) of a direction; atan2 keeps the polar angle accurate
+// near the pole, where acos loses half the digits.
+double polar(double x, double y, double z) { return std::atan2(std::sqrt(x * x + y * y), z); }
+double azimuth(double x, double y) {
+    const double phi = std::atan2(y, x);
+    return phi < 0.0 ? phi + kTwoPi : phi;
+}
+
+// G's rows: flat below the first centre, and beyond the last one continued along the line
+// through the last two rows (t > 1), so that G can fall to 0 at grazing angles: the fitter's own
+// interpolation (NpfFactors::eval). The clamp at 0 follows when the channels are combined.
+Lerp extrapolated(double x, int n) {
+    Lerp l;
+    if (n == 1) return l;
+    const double c = std::max(0.0, x - 0.5);
+    l.i0 = std::min(int(c), n - 2);
+    l.i1 = l.i0 + 1;
+    l.t = c - l.i0;
+    return l;
+}
+
+// G's cell position for one direction.
+NpfModel::Lookup::Bilinear g_position(double x, double y, double z, int g_theta, int g_phi) {
+    return bilinear(extrapolated(polar(x, y, z) / kHalfPi * g_theta, g_theta),
+                    periodic(azimuth(x, y) / kTwoPi * g_phi, g_phi), g_phi);
+}
+
+double interpolate(const float* table, const NpfModel::Lookup::Bilinear& b) {
+    return table[b.index[0]] * b.weight[0] + table[b.index[1]] * b.weight[1] + table[b.index[2]] * b.weight[2] +
+           table[b.index[3]] * b.weight[3];
+}
+
+// The interpolated basis values of one table at one position.
+void project(const SpectralBasis& s, const NpfModel::Lookup::Bilinear& b, double* out) {
+    for (int k = 0; k < s.rank; ++k) out[k] = interpolate(s.basis.data() + std::size_t(k) * s.cells, b);
+}
+
+double combine_cached(const SpectralBasis& s, std::size_t c, const double* projected) {
+    const float* w = s.weights.data() + c * std::size_t(s.rank);
+    double v = 0.0;
+    for (int k = 0; k < s.rank; ++k) v += w[k] * projected[k];
+    return v > 0.0 ? v : 0.0;
+}
+
+double combine_direct(const SpectralBasis& s, std::size_t c, const NpfModel::Lookup::Bilinear& b) {
+    const float* w = s.weights.data() + c * std::size_t(s.rank);
+    double v = 0.0;
+    for (int k = 0; k < s.rank; ++k) v += w[k] * interpolate(s.basis.data() + std::size_t(k) * s.cells, b);
+    return v > 0.0 ? v : 0.0;
+}
+
+bool finite(const Vec3& w) { return std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z); }
+
+// ---- Validation ------------------------------------------------------------------------------
+
+template <typename T>
+bool all_finite(const std::vector<T>& v) {
+    return std::all_of(v.begin(), v.end(), [](T x) { return std::isfinite(x); });
+}
+
+void check_basis(const SpectralBasis& s, const char* name, std::size_t cells, std::size_t channels,
+                 const std::string& source) {
+    const std::string n(name);
+    if (s.cells != cells) {
+        throw Error(source,
+                    n + " basis has " + std::to_string(s.cells) + " cells, its grid has " + std::to_string(cells));
+    }
+    const std::size_t max_rank = std::min(cells, channels);
+    if (s.rank < 1 || std::size_t(s.rank) > max_rank) {
+        throw Error(source, n + " rank " + std::to_string(s.rank) + " is outside 1.." + std::to_string(max_rank) +
+                                " (min of " + std::to_string(cells) + " cells and " + std::to_string(channels) +
+                                " channels)");
+    }
+    if (s.basis.size() != std::size_t(s.rank) * cells) throw Error(source, n + " basis has the wrong number of values");
+    if (s.weights.size() != std::size_t(s.rank) * channels) {
+        throw Error(source, n + " weights have the wrong number of values");
+    }
+    if (!all_finite(s.basis)) throw Error(source, "non-finite value in the " + n + " basis");
+    if (!all_finite(s.weights)) throw Error(source, "non-finite value in the " + n + " weights");
+    if (s.singular_values.size() != max_rank) {
+        throw Error(source, n + " has " + std::to_string(s.singular_values.size()) + " singular values, expected " +
+                                std::to_string(max_rank));
+    }
+    for (std::size_t k = 0; k < s.singular_values.size(); ++k) {
+        const double v = s.singular_values[k];
+        if (!std::isfinite(v) || v < 0.0 || (k > 0 && v > s.singular_values[k - 1])) {
+            throw Error(source, n + " singular values must be finite, non-negative and descending");
+        }
+    }
+    if (!(s.kept_ratio >= 0.0 && s.kept_ratio <= 1.0)) {
+        throw Error(source, n + " kept ratio " + std::to_string(s.kept_ratio) + " is outside [0, 1]");
+    }
+}
+
+}  // namespace
+
+double SpectralBasis::at(std::size_t channel, std::size_t cell) const {
+    const float* w = weights.data() + channel * std::size_t(rank);
+    double v = 0.0;
+    for (int k = 0; k < rank; ++k) v += double(w[k]) * basis[std::size_t(k) * cells + cell];
+    return v;
+}
+
+void NpfModel::validate(const std::string& source) const {
+    // Generous bounds that keep every size product far from overflow.
+    constexpr int kMaxGrid = 1 << 16;
+    auto check_grid = [&](int n, const char* name) {
+        if (n < 1 || n > kMaxGrid) {
+            throw Error(source,
+                        std::string(name) + " = " + std::to_string(n) + " is outside 1.." + std::to_string(kMaxGrid));
+        }
+    };
+    check_grid(d_theta, "D theta size");
+    check_grid(d_phi, "D phi size");
+    check_grid(f_theta, "F theta size");
+    check_grid(g_theta, "G theta size");
+    check_grid(g_phi, "G phi size");
+
+    const std::size_t C = channel_count();
+    if (C == 0) throw Error(source, "no channels");
+    if (channels.size() != C) {
+        throw Error(source, "the channel list names " + std::to_string(channels.size()) + " channels, the tables hold " +
+                                std::to_string(C));
+    }
+    if (!channels.is_rgb()) {
+        const std::vector<float>& w = channels.wavelengths();
+        for (std::size_t k = 0; k < w.size(); ++k) {
+            if (!std::isfinite(w[k]) || w[k] <= 0.f || (k > 0 && !(w[k] > w[k - 1]))) {
+                throw Error(source, "wavelengths must be positive, finite and strictly ascending");
+            }
+        }
+    }
+    if (rho_s.size() != C) {
+        throw Error(source, "rho_s has " + std::to_string(rho_s.size()) + " values, expected " + std::to_string(C));
+    }
+    if (F.size() != C * std::size_t(f_theta)) throw Error(source, "F has the wrong number of values");
+    auto check_non_negative = [&](const std::vector<float>& v, const char* name) {
+        for (float x : v) {
+            if (!std::isfinite(x)) throw Error(source, std::string("non-finite value in ") + name);
+            if (x < 0.f) throw Error(source, std::string("negative value in ") + name);
+        }
+    };
+    check_non_negative(rho_d, "rho_d");
+    check_non_negative(rho_s, "rho_s");
+    check_non_negative(F, "F");
+    check_basis(D, "D", std::size_t(d_theta) * std::size_t(d_phi), C, source);
+    check_basis(G, "G", std::size_t(g_theta) * std::size_t(g_phi), C, source);
+}
+
+bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at) const {
+    if (!(wi.z > 0.f) || !(wo.z > 0.f) || !finite(wi) || !finite(wo)) return false;
+    const double ix = wi.x, iy = wi.y, iz = wi.z, ox = wo.x, oy = wo.y, oz = wo.z;
+    double hx = ix + ox, hy = iy + oy, hz = iz + oz;
+    const double len = std::sqrt(hx * hx + hy * hy + hz * hz);
+    hx /= len;
+    hy /= len;
+    hz /= len;
+    const double theta_h = polar(hx, hy, hz), phi_h = azimuth(hx, hy);
+    // theta_d is the angle between wi and h: atan2(|wi x h|, wi . h), accurate at both ends.
+    const double cx = iy * hz - iz * hy, cy = iz * hx - ix * hz, cz = ix * hy - iy * hx;
+    const double theta_d = std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), ix * hx + iy * hy + iz * hz);
+
+    at.cos_i = iz;
+    at.cos_o = oz;
+    at.d = bilinear(clamped(std::sqrt(theta_h / kHalfPi) * d_theta, d_theta), periodic(phi_h / kTwoPi * d_phi, d_phi),
+                    d_phi);
+    const Lerp f = clamped(theta_d / kHalfPi * f_theta, f_theta);
+    at.f0 = f.i0;
+    at.f1 = f.i1;
+    at.f_t = f.t;
+    at.g_i = g_position(ix, iy, iz, g_theta, g_phi);
+    at.g_o = g_position(ox, oy, oz, g_theta, g_phi);
+    at.cached = D.rank <= kInlineRank && G.rank <= kInlineRank;
+    if (at.cached) {
+        project(D, at.d, at.d_basis);
+        project(G, at.g_i, at.g_i_basis);
+        project(G, at.g_o, at.g_o_basis);
+    }
+    return true;
+}
+
+double NpfModel::value(const Lookup& at, std::size_t c) const {
+    double d, gi, go;
+    if (at.cached) {
+        d = combine_cached(D, c, at.d_basis);
+        gi = combine_cached(G, c, at.g_i_basis);
+        go = combine_cached(G, c, at.g_o_basis);
+    } else {
+        d = combine_direct(D, c, at.d);
+        gi = combine_direct(G, c, at.g_i);
+        go = combine_direct(G, c, at.g_o);
+    }
+    const float* f = F.data() + c * std::size_t(f_theta);
+    const double fv = f[at.f0] * (1 - at.f_t) + f[at.f1] * at.f_t;
+    return rho_d[c] + rho_s[c] * d * fv * gi * go / (at.cos_i * at.cos_o);
+}
+
+void NpfModel::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {
+    Lookup at;
+    const std::size_t C = channel_count();
+    if (!prepare(wi, wo, at)) {
+        std::fill(out, out + C, 0.0);
+        return;
+    }
+    for (std::size_t c = 0; c < C; ++c) out[c] = value(at, c);
+}
+
+double NpfModel::eval(std::size_t c, const Vec3& wi, const Vec3& wo) const {
+    Lookup at;
+    return prepare(wi, wo, at) ? value(at, c) : 0.0;
+}
+
+}  // namespace npf

@@ -1,0 +1,429 @@
+// The NPF factor texture reader. Every number taken from the file is checked before it sizes an
+// allocation or indexes a table, so that a hostile or damaged file ends in an npf::Error naming
+// it, never in a crash.
+#include <npf/shading/npf_texture_file.h>
+#include <npf/shading/npf_texture_layout.h>
+
+#include <npf/core/error.h>
+#include <npf/core/input_file.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace npf {
+
+namespace {
+
+namespace layout = npf_exr;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+// The most values one part may hold (512 MiB of floats), far above any real model, so that a
+// hostile header cannot make us allocate without bound.
+constexpr std::size_t kMaxPartValues = std::size_t(1) << 27;
+constexpr int kMaxChannelCount = 1 << 16;
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+// One part of the open file.
+struct Part {
+    int subimage = -1;
+    ImageSpec spec;
+};
+
+class Reader {
+public:
+    explicit Reader(const std::string& path) : m_path(path) {}
+
+    NpfModel read() {
+        open();
+        const Part* d = find_part(layout::kPartD);
+        if (!d) throw Error(m_path, "an OpenEXR file but not an NPF factor texture (it has no part \"D\")");
+        read_attributes(d->spec);
+        const std::size_t C = m_model.channel_count();
+
+        // D and G: rank basis tables over their grids.
+        auto read_basis = [&](const char* which, const char* prefix, int width, int height, SpectralBasis& s) {
+            const Part& p = part(which);
+            check_size(p, width, height);
+            check_family(p, prefix, std::size_t(s.rank));
+            s.cells = std::size_t(width) * std::size_t(height);
+            s.basis.resize(std::size_t(s.rank) * s.cells);
+            const std::vector<float> pixels = read_pixels(p);
+            for (int k = 0; k < s.rank; ++k) {
+                const std::string name = layout::indexed_channel(prefix, std::size_t(k), std::size_t(s.rank));
+                extract(p, pixels, name, s.basis.data() + std::size_t(k) * s.cells, false);
+            }
+        };
+        read_basis(layout::kPartD, layout::kDBasis, m_model.d_phi, m_model.d_theta, m_model.D);
+        read_basis(layout::kPartG, layout::kGBasis, m_model.g_phi, m_model.g_theta, m_model.G);
+
+        // F: one row, one channel per stored channel.
+        {
+            const Part& p = part(layout::kPartF);
+            check_size(p, m_model.f_theta, 1);
+            check_family(p, layout::kFChannel, C);
+            m_model.F.resize(C * std::size_t(m_model.f_theta));
+            const std::vector<float> pixels = read_pixels(p);
+            for (std::size_t c = 0; c < C; ++c) {
+                extract(p, pixels, layout::indexed_channel(layout::kFChannel, c, C),
+                        m_model.F.data() + c * std::size_t(m_model.f_theta), true);
+            }
+        }
+
+        // The per-channel values: wavelengths, rho_d, rho_s and the weights of both bases.
+        {
+            const Part& p = part(layout::kPartSpectral);
+            check_size(p, int(C), 1);
+            check_family(p, layout::kDWeight, std::size_t(m_model.D.rank));
+            check_family(p, layout::kGWeight, std::size_t(m_model.G.rank));
+            const std::vector<float> pixels = read_pixels(p);
+            std::vector<float> wavelengths(C);
+            extract(p, pixels, layout::kWavelength, wavelengths.data(), false);
+            m_model.rho_d.resize(C);
+            m_model.rho_s.resize(C);
+            extract(p, pixels, layout::kRhoD, m_model.rho_d.data(), true);
+            extract(p, pixels, layout::kRhoS, m_model.rho_s.data(), true);
+            read_weights(p, pixels, layout::kDWeight, m_model.D);
+            read_weights(p, pixels, layout::kGWeight, m_model.G);
+            if (m_model.channels.is_rgb()) {
+                for (std::size_t c = 0; c < C; ++c) {
+                    if (wavelengths[c] != float(c)) {
+                        throw Error(m_path, "an RGB file's wavelength channel must hold 0, 1, 2 (channel indices)");
+                    }
+                }
+            } else {
+                m_model.channels = Channels::spectral(wavelengths);
+            }
+        }
+        m_model.validate(m_path);
+        return std::move(m_model);
+    }
+
+private:
+    void open() {
+        m_input = OIIO::ImageInput::create("openexr");
+        if (!m_input) throw Error(m_path, "this build of OpenImageIO cannot read OpenEXR: " + OIIO::geterror());
+        ImageSpec spec;
+        if (!m_input->open(m_path, spec)) {
+            throw Error(m_path, "cannot read the OpenEXR headers: " + first_line(m_input->geterror()));
+        }
+        for (int i = 0; m_input->seek_subimage(i, 0); ++i) {
+            Part p;
+            p.subimage = i;
+            p.spec = m_input->spec();
+            m_parts.push_back(std::move(p));
+        }
+        m_input->geterror();  // the failed seek past the last part is expected
+        // (OpenEXR itself guarantees that part names are unique.)
+    }
+
+    static std::string part_name(const Part& p) { return p.spec.get_string_attribute("oiio:subimagename"); }
+
+    static std::string first_line(const std::string& s) {
+        const std::size_t nl = s.find('\n');
+        return nl == std::string::npos ? s : s.substr(0, nl);
+    }
+
+    const Part* find_part(const char* name) const {
+        for (const Part& p : m_parts) {
+            if (part_name(p) == name) return &p;
+        }
+        return nullptr;
+    }
+
+    const Part& part(const char* name) const {
+        const Part* p = find_part(name);
+        if (!p) throw Error(m_path, "missing part " + quoted(name));
+        return *p;
+    }
+
+    // ---- Attributes --------------------------------------------------------------------------
+
+    const OIIO::ParamValue* attribute(const ImageSpec& spec, const char* name) const {
+        const OIIO::ParamValue* p = spec.find_attribute(name, TypeDesc::UNKNOWN, /*casesensitive=*/true);
+        if (!p) throw Error(m_path, std::string("missing attribute ") + name + " in part \"D\"");
+        return p;
+    }
+
+    int int_attribute(const ImageSpec& spec, const char* name, int lo, int hi) const {
+        const OIIO::ParamValue* p = attribute(spec, name);
+        if (p->type() != OIIO::TypeInt) throw Error(m_path, std::string("attribute ") + name + " is not an int");
+        const int v = p->get<int>();
+        if (v < lo || v > hi) {
+            throw Error(m_path, std::string("attribute ") + name + " = " + std::to_string(v) + " is outside " +
+                                    std::to_string(lo) + ".." + std::to_string(hi));
+        }
+        return v;
+    }
+
+    double ratio_attribute(const ImageSpec& spec, const char* name) const {
+        const OIIO::ParamValue* p = attribute(spec, name);
+        double v;
+        if (p->type() == OIIO::TypeDesc::DOUBLE) {
+            v = p->get<double>();
+        } else if (p->type() == OIIO::TypeFloat) {
+            v = p->get<float>();
+        } else {
+            throw Error(m_path, std::string("attribute ") + name + " is not a number");
+        }
+        if (!(v >= 0.0 && v <= 1.0)) throw Error(m_path, std::string("attribute ") + name + " is outside [0, 1]");
+        return v;
+    }
+
+    std::string string_attribute(const ImageSpec& spec, const std::string& name) const {
+        const OIIO::ParamValue* p = spec.find_attribute(name, TypeDesc::UNKNOWN, /*casesensitive=*/true);
+        if (!p) throw Error(m_path, "missing attribute " + name + " in part \"D\"");
+        if (p->type() != OIIO::TypeString) throw Error(m_path, "attribute " + name + " is not a string");
+        return p->get<OIIO::ustring>().string();
+    }
+
+    std::vector<double> numbers_attribute(const ImageSpec& spec, const char* name) const {
+        const std::string text = string_attribute(spec, name);
+        std::vector<double> v;
+        const char* s = text.c_str();
+        while (true) {
+            while (*s == ' ') ++s;
+            if (*s == '\0') break;
+            char* end = nullptr;
+            errno = 0;
+            const double x = std::strtod(s, &end);
+            if (end == s || (*end != ' ' && *end != '\0') || errno == ERANGE) {
+                throw Error(m_path, std::string("attribute ") + name + " is not a list of numbers");
+            }
+            v.push_back(x);
+            s = end;
+        }
+        return v;
+    }
+
+    void read_attributes(const ImageSpec& d) {
+        const OIIO::ParamValue* version = d.find_attribute(layout::kAttrVersion, TypeDesc::UNKNOWN, true);
+        if (!version || version->type() != OIIO::TypeInt) {
+            throw Error(m_path, "an OpenEXR file but not an NPF factor texture (its part \"D\" has no integer "
+                                "npf:format_version attribute)");
+        }
+        if (version->get<int>() != layout::kFormatVersion) {
+            throw Error(m_path, "unsupported npf:format_version " + std::to_string(version->get<int>()) +
+                                    " (this build reads version " + std::to_string(layout::kFormatVersion) + ")");
+        }
+        const std::string kind = string_attribute(d, layout::kAttrChannelKind);
+        if (kind != "rgb" && kind != "spectral") {
+            throw Error(m_path, "attribute npf:channel_kind is " + quoted(kind) + ", expected 'rgb' or 'spectral'");
+        }
+        const int C = int_attribute(d, layout::kAttrChannelCount, 1, kMaxChannelCount);
+        if (kind == "rgb" && C != 3) {
+            throw Error(m_path, "an RGB file must have 3 channels, npf:channel_count is " + std::to_string(C));
+        }
+        constexpr int kMaxGrid = 1 << 16;
+        NpfModel& m = m_model;
+        // Placeholder wavelengths until the spectral part is read; their count is what matters here.
+        m.channels = kind == "rgb" ? Channels::rgb() : Channels::spectral(std::vector<float>(std::size_t(C), 1.f));
+        m.rho_d.assign(std::size_t(C), 0.f);
+        m.d_theta = int_attribute(d, layout::kAttrDTheta, 1, kMaxGrid);
+        m.d_phi = int_attribute(d, layout::kAttrDPhi, 1, kMaxGrid);
+        m.f_theta = int_attribute(d, layout::kAttrFTheta, 1, kMaxGrid);
+        m.g_theta = int_attribute(d, layout::kAttrGTheta, 1, kMaxGrid);
+        m.g_phi = int_attribute(d, layout::kAttrGPhi, 1, kMaxGrid);
+        const int isotropic = int_attribute(d, layout::kAttrIsotropic, 0, 1);
+        if ((isotropic == 1) != m.isotropic()) {
+            throw Error(m_path, "attribute npf:isotropic disagrees with the grid sizes (phi sizes " +
+                                    std::to_string(m.d_phi) + " and " + std::to_string(m.g_phi) + ")");
+        }
+        auto read_basis_facts = [&](SpectralBasis& s, int theta, int phi, const char* rank_name, const char* ratio_name,
+                                    const char* sigma_name) {
+            s.cells = std::size_t(theta) * std::size_t(phi);
+            const std::size_t max_rank = std::min(s.cells, std::size_t(C));
+            s.rank = int_attribute(d, rank_name, 1, int(max_rank));
+            s.kept_ratio = ratio_attribute(d, ratio_name);
+            s.singular_values = numbers_attribute(d, sigma_name);
+            if (s.singular_values.size() != max_rank) {
+                throw Error(m_path, std::string("attribute ") + sigma_name + " holds " +
+                                        std::to_string(s.singular_values.size()) + " values, expected " +
+                                        std::to_string(max_rank));
+            }
+        };
+        read_basis_facts(m.D, m.d_theta, m.d_phi, layout::kAttrDRank, layout::kAttrDKeptRatio,
+                         layout::kAttrDSingularValues);
+        read_basis_facts(m.G, m.g_theta, m.g_phi, layout::kAttrGRank, layout::kAttrGKeptRatio,
+                         layout::kAttrGSingularValues);
+
+        // Metadata: the key list gives the order; each key has its own string attribute.
+        const OIIO::ParamValue* keys = d.find_attribute(layout::kAttrMetadataKeys, TypeDesc::UNKNOWN, true);
+        if (keys) {
+            const std::string list = string_attribute(d, layout::kAttrMetadataKeys);
+            std::size_t begin = 0;
+            while (begin <= list.size() && !list.empty()) {
+                std::size_t end = list.find('\n', begin);
+                if (end == std::string::npos) end = list.size();
+                const std::string key = list.substr(begin, end - begin);
+                const std::string name = std::string(layout::kMetadataPrefix) + key;
+                if (!d.find_attribute(name, TypeDesc::UNKNOWN, true)) {
+                    throw Error(m_path, "metadata key " + quoted(key) + " is listed in npf:metadata_keys but has no " +
+                                            name + " attribute");
+                }
+                m.metadata.emplace_back(key, string_attribute(d, name));
+                begin = end + 1;
+            }
+        }
+    }
+
+    // ---- Pixels ------------------------------------------------------------------------------
+
+    void check_size(const Part& p, int width, int height) const {
+        const ImageSpec& s = p.spec;
+        if (s.width != width || s.height != height || s.depth != 1) {
+            throw Error(m_path, "part " + quoted(part_name(p)) + " is " + std::to_string(s.width) + " x " +
+                                    std::to_string(s.height) + (s.depth != 1 ? " x " + std::to_string(s.depth) : "") +
+                                    " pixels, the attributes call for " + std::to_string(width) + " x " +
+                                    std::to_string(height));
+        }
+        if (std::size_t(s.width) * std::size_t(s.height) * std::size_t(std::max(s.nchannels, 1)) > kMaxPartValues) {
+            throw Error(m_path, "part " + quoted(part_name(p)) + " is too large");
+        }
+    }
+
+    // The part holds exactly `count` channels named prefix + index (the rank or channel count in
+    // the attributes), each stored as float or half.
+    void check_family(const Part& p, const char* prefix, std::size_t count) const {
+        const ImageSpec& s = p.spec;
+        std::size_t found = 0;
+        const std::size_t prefix_length = std::strlen(prefix);
+        for (const std::string& name : s.channelnames) {
+            if (name.compare(0, prefix_length, prefix) == 0) ++found;
+        }
+        for (std::size_t k = 0; k < count; ++k) {
+            const std::string name = layout::indexed_channel(prefix, k, count);
+            if (s.channelindex(name) < 0) {
+                throw Error(m_path, "part " + quoted(part_name(p)) + " lacks channel " + quoted(name));
+            }
+        }
+        if (found != count) {
+            throw Error(m_path, "part " + quoted(part_name(p)) + " has " + std::to_string(found) + " channels " + prefix +
+                                    "*, the attributes call for " + std::to_string(count));
+        }
+    }
+
+    std::vector<float> read_pixels(const Part& p) const {
+        const ImageSpec& s = p.spec;
+        for (int c = 0; c < s.nchannels; ++c) {
+            const TypeDesc t = s.channelformat(c);
+            if (t != OIIO::TypeFloat && t != OIIO::TypeHalf) {
+                throw Error(m_path, "part " + quoted(part_name(p)) + " channel " +
+                                        quoted(s.channelnames[std::size_t(c)]) +
+                                        " stores " + t.c_str() + " pixels; NPF tables are float");
+            }
+        }
+        std::vector<float> pixels(std::size_t(s.width) * std::size_t(s.height) * std::size_t(s.nchannels));
+        bool ok = false;
+        std::string why;
+        try {
+            ok = m_input->read_image(p.subimage, 0, 0, s.nchannels, OIIO::TypeFloat, pixels.data());
+            if (!ok) why = first_line(m_input->geterror());
+        } catch (const std::exception& e) {
+            why = e.what();
+        }
+        if (!ok) {
+            throw Error(m_path, "cannot read the pixels of part " + quoted(part_name(p)) +
+                                    " (truncated or corrupt file): " + why);
+        }
+        return pixels;
+    }
+
+    // Copies one channel out of the interleaved pixels, checking its values.
+    void extract(const Part& p, const std::vector<float>& pixels, const std::string& name, float* out,
+                 bool non_negative) const {
+        const ImageSpec& s = p.spec;
+        const int index = s.channelindex(name);
+        if (index < 0) throw Error(m_path, "part " + quoted(part_name(p)) + " lacks channel " + quoted(name));
+        const std::size_t n = std::size_t(s.width) * std::size_t(s.height), stride = std::size_t(s.nchannels);
+        for (std::size_t i = 0; i < n; ++i) {
+            const float v = pixels[i * stride + std::size_t(index)];
+            if (!std::isfinite(v) || (non_negative && v < 0.f)) {
+                throw Error(m_path, std::string(std::isfinite(v) ? "negative" : "non-finite") + " value in part " +
+                                        quoted(part_name(p)) + " channel " + quoted(name) + " at x " +
+                                        std::to_string(i % std::size_t(s.width)) + ", y " +
+                                        std::to_string(i / std::size_t(s.width)));
+            }
+            out[i] = v;
+        }
+    }
+
+    void read_weights(const Part& p, const std::vector<float>& pixels, const char* prefix, SpectralBasis& s) const {
+        const std::size_t C = m_model.channel_count(), rank = std::size_t(s.rank);
+        s.weights.resize(C * rank);
+        std::vector<float> column(C);
+        for (std::size_t k = 0; k < rank; ++k) {
+            extract(p, pixels, layout::indexed_channel(prefix, k, rank), column.data(), false);
+            for (std::size_t c = 0; c < C; ++c) s.weights[c * rank + k] = column[c];
+        }
+    }
+
+    std::string m_path;
+    std::unique_ptr<OIIO::ImageInput> m_input;
+    std::vector<Part> m_parts;
+    NpfModel m_model;
+};
+
+}  // namespace
+
+bool has_exr_magic(const unsigned char* head, std::size_t size) {
+    return head && size >= 4 && head[0] == 0x76 && head[1] == 0x2f && head[2] == 0x31 && head[3] == 0x01;
+}
+
+NpfModel read_npf_texture(const std::string& path) {
+    const std::uint64_t size = require_regular_file(path, "an NPF texture (.exr)");
+    if (size == 0) throw Error(path, "empty file");
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
+        unsigned char head[4] = {};
+        in.read(reinterpret_cast<char*>(head), sizeof head);
+        if (!has_exr_magic(head, std::size_t(in.gcount()))) {
+            throw Error(path, "not an OpenEXR file (NPF factor textures are OpenEXR images)");
+        }
+    }
+    try {
+        return Reader(path).read();
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {  // OpenEXR or allocation failures OIIO did not catch
+        throw Error(path, std::string("cannot read: ") + e.what());
+    }
+}
+
+bool is_npf_texture(const std::string& path) {
+    try {
+        std::ifstream in(path, std::ios::binary);
+        unsigned char head[4] = {};
+        if (!in.read(reinterpret_cast<char*>(head), sizeof head) || !has_exr_magic(head, sizeof head)) return false;
+        in.close();
+        std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::create("openexr");
+        ImageSpec spec;
+        if (!input || !input->open(path, spec)) {
+            if (input) input->geterror();
+            return false;
+        }
+        for (int i = 0; input->seek_subimage(i, 0); ++i) {
+            const ImageSpec& s = input->spec();
+            if (s.get_string_attribute("oiio:subimagename") == layout::kPartD) {
+                return s.find_attribute(layout::kAttrVersion, OIIO::TypeInt, true) != nullptr;
+            }
+        }
+        input->geterror();
+        return false;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+}  // namespace npf
