@@ -10,5 +10,6 @@ namespace npf::cli {
 int run_info(const std::vector<std::string>& args);
 int run_eval(const std::vector<std::string>& args);
 int run_synth(const std::vector<std::string>& args);
+int run_convert(const std::vector<std::string>& args);
 
 }  // namespace npf::cli

@@ -20,6 +20,7 @@ struct Subcommand {
 const Subcommand kSubcommands[] = {
     {"info", npf::cli::run_info, "what a material file holds: format, isotropy, channels, grids, size"},
     {"eval", npf::cli::run_eval, "evaluate a material at direction pairs read from a file or stdin"},
+    {"convert", npf::cli::run_convert, "fit the NPF factors to a material and write the factor texture (.exr)"},
     {"synth", npf::cli::run_synth, "write an RGL .bsdf file from an analytic material (recipe or flags)"},
 };
 

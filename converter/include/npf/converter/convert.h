@@ -1,0 +1,67 @@
+// One material to one NPF factor texture: resample and fit (AWLS), compress D and G across
+// channels (SVD), measure the errors, write the EXR atomically. What `npf convert` and the
+// batch runner call; the presets are the speed/accuracy trade-offs measured in docs/fitting.md.
+#pragma once
+
+#include <npf/converter/fit/awls.h>
+#include <npf/converter/fit/fit_error.h>
+#include <npf/converter/fit/spectral_compression.h>
+#include <npf/core/brdf.h>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace npf {
+
+enum class ConvertPreset { Preview, Production, Paper };
+
+// "preview", "production" or "paper"; throws npf::Error naming `what` otherwise.
+ConvertPreset parse_convert_preset(const std::string& name, const std::string& what);
+const char* convert_preset_name(ConvertPreset preset);
+
+enum class Isotropy { Auto, Isotropic, Anisotropic };
+
+struct ConvertSettings {
+    // Grid, weights, iterations, threads. The channels and, for isotropic factors, the phi
+    // sizes are set by convert_material from the source and the fields below.
+    AwlsOptions fit;
+    CompressionOptions compression;
+    // RGB factors are stored losslessly unless this is set: three channels gain little from the
+    // SVD, and what little they gain costs visible colour error (docs/fitting.md).
+    bool compress_rgb = false;
+    // Which channels to fit: empty takes the source's own (RGB, or its wavelengths); "rgb", a
+    // list "450,550,650" or "start:end:count" (nm) resamples the source's spectra.
+    std::string wavelengths;
+    // With `wavelengths` empty: keep at most this many of the source's wavelengths, evenly
+    // spread, ends included (0: all).
+    int max_wavelengths = 0;
+    // Auto follows the source: isotropic sources get factors without phi axes.
+    Isotropy isotropy = Isotropy::Auto;
+    // Direction pairs of the BRDF-space error measurement (0 skips it).
+    int error_pairs = 20000;
+    ConvertPreset preset = ConvertPreset::Production;
+};
+
+// The settings of a preset, for a source that is isotropic or not (docs/fitting.md).
+ConvertSettings preset_settings(ConvertPreset preset, bool isotropic);
+
+struct ConvertReport {
+    AwlsReport fit;
+    bool isotropic = true;
+    Channels channels;
+    int d_rank = 0, g_rank = 0;
+    double d_kept_ratio = 1.0, g_kept_ratio = 1.0;
+    BrdfSpaceError fitted_error;      // the fitted factors before compression
+    BrdfSpaceError compressed_error;  // what the file holds
+    std::uint64_t input_bytes = 0, output_bytes = 0;
+    double seconds_compression = 0.0, seconds_error = 0.0, seconds_writing = 0.0, seconds = 0.0;
+    double peak_memory_gib = 0.0;     // of the process, when known
+};
+
+// Fits `source`, compresses, measures and writes `output` (NPF EXR, docs/format.md). The
+// progress callback gets the fraction done. Throws npf::Error (no file is left at `output`).
+ConvertReport convert_material(const Brdf& source, const std::string& output, const ConvertSettings& settings,
+                               const std::function<void(double)>& progress = {});
+
+}  // namespace npf

@@ -1,0 +1,196 @@
+#include <npf/converter/convert.h>
+
+#include <npf/converter/npf_texture_writer.h>
+#include <npf/core/error.h>
+#include <npf/shading/npf_model.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sys/resource.h>
+#include <sys/stat.h>
+
+namespace npf {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+double peak_memory_gib() {
+    rusage u{};
+    if (getrusage(RUSAGE_SELF, &u) != 0) return 0.0;
+    return double(u.ru_maxrss) / (1024.0 * 1024.0);  // ru_maxrss is in KiB on Linux
+}
+
+std::string text(double v) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.6g", v);
+    return buffer;
+}
+
+Channels choose_channels(const Brdf& source, const ConvertSettings& s) {
+    const Channels stored = source.info().channels;
+    if (!s.wavelengths.empty()) {
+        if (s.wavelengths == "rgb") return Channels::rgb();
+        return Channels::spectral(parse_wavelength_list(s.wavelengths, "wavelengths"));
+    }
+    if (stored.is_rgb() || s.max_wavelengths <= 0 || stored.size() <= std::size_t(s.max_wavelengths)) return stored;
+    // Evenly spread over the stored list, both ends kept.
+    const std::vector<float>& all = stored.wavelengths();
+    std::vector<float> kept;
+    const std::size_t n = std::size_t(std::max(2, s.max_wavelengths));
+    for (std::size_t k = 0; k < n; ++k) kept.push_back(all[(k * (all.size() - 1) + (n - 1) / 2) / (n - 1)]);
+    kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+    return Channels::spectral(kept);
+}
+
+}  // namespace
+
+ConvertPreset parse_convert_preset(const std::string& name, const std::string& what) {
+    if (name == "preview") return ConvertPreset::Preview;
+    if (name == "production") return ConvertPreset::Production;
+    if (name == "paper") return ConvertPreset::Paper;
+    throw Error(what, "'" + name + "' is not a preset (preview, production or paper)");
+}
+
+const char* convert_preset_name(ConvertPreset p) {
+    switch (p) {
+    case ConvertPreset::Preview: return "preview";
+    case ConvertPreset::Production: return "production";
+    case ConvertPreset::Paper: return "paper";
+    }
+    return "?";
+}
+
+ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
+    ConvertSettings s;
+    s.preset = preset;
+    AwlsOptions& o = s.fit;
+    s.compression.d_ratio = s.compression.g_ratio = 0.99;  // the paper's default (its sec. 4.1)
+    switch (preset) {
+    case ConvertPreset::Preview:
+        o.grid = isotropic ? RusinkiewiczGrid{45, 1, 45, 90} : RusinkiewiczGrid{32, 64, 32, 64};
+        o.g_theta = isotropic ? 45 : 32;
+        o.g_phi = isotropic ? 1 : 64;
+        o.phi_d_samples = isotropic ? 0 : 8;
+        o.max_iterations = 60;
+        o.tolerance = 1e-4;
+        s.max_wavelengths = 32;
+        s.error_pairs = 5000;
+        break;
+    case ConvertPreset::Production:
+        o.grid = isotropic ? RusinkiewiczGrid{90, 1, 90, 180} : RusinkiewiczGrid{90, 180, 90, 180};
+        o.g_theta = 90;
+        o.g_phi = isotropic ? 1 : 180;
+        o.phi_d_samples = isotropic ? 0 : 8;
+        o.max_iterations = 200;
+        o.tolerance = 1e-5;
+        break;
+    case ConvertPreset::Paper:
+        o.grid = isotropic ? RusinkiewiczGrid{90, 1, 90, 180} : RusinkiewiczGrid{90, 180, 90, 180};
+        o.g_theta = 90;
+        o.g_phi = isotropic ? 1 : 180;
+        o.phi_d_samples = isotropic ? 0 : 16;
+        o.max_iterations = 500;
+        o.tolerance = 1e-6;
+        break;
+    }
+    return s;
+}
+
+ConvertReport convert_material(const Brdf& source, const std::string& output, const ConvertSettings& settings,
+                               const std::function<void(double)>& progress) {
+    const auto start = Clock::now();
+    const BrdfInfo& info = source.info();
+    ConvertReport report;
+    report.input_bytes = info.file_bytes;
+    report.isotropic = settings.isotropy == Isotropy::Auto ? info.isotropic : settings.isotropy == Isotropy::Isotropic;
+
+    AwlsOptions o = settings.fit;
+    o.channels = report.channels = choose_channels(source, settings);
+    if (report.isotropic) {
+        o.grid.phi_h = 1;
+        o.g_phi = 1;
+    } else if (o.grid.phi_h == 1 || o.g_phi == 1) {
+        throw Error(info.path.empty() ? "convert" : info.path, "anisotropic factors need phi_h and G phi sizes above 1");
+    }
+    // Fitting is most of the time; the error measurement and writing the rest.
+    o.progress = [&](double f) {
+        if (progress) progress(0.9 * f);
+    };
+    const NpfFactors factors = fit_npf(source, o, &report.fit);
+
+    auto t = Clock::now();
+    CompressionOptions compression = settings.compression;
+    if (o.channels.is_rgb() && !settings.compress_rgb) compression = CompressionOptions{};
+    NpfModel model = compress_factors(factors, compression);
+    report.seconds_compression = seconds_since(t);
+    report.d_rank = model.D.rank;
+    report.g_rank = model.G.rank;
+    report.d_kept_ratio = model.D.kept_ratio;
+    report.g_kept_ratio = model.G.kept_ratio;
+
+    t = Clock::now();
+    if (settings.error_pairs > 0) {
+        const std::size_t C = factors.channel_count();
+        report.fitted_error = brdf_space_error(source, o.channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
+            const Vec3d a{wi.x, wi.y, wi.z}, b{wo.x, wo.y, wo.z};
+            for (std::size_t c = 0; c < C; ++c) out[c] = factors.eval(c, a, b);
+        }, settings.error_pairs);
+        if (progress) progress(0.95);
+        report.compressed_error = brdf_space_error(source, o.channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
+            model.eval_all(wi, wo, out);
+        }, settings.error_pairs);
+    }
+    report.seconds_error = seconds_since(t);
+
+    double worst_weighted = 0.0;
+    int most_iterations = 0;
+    for (std::size_t c = 0; c < report.fit.relative_error.size(); ++c) {
+        worst_weighted = std::max(worst_weighted, report.fit.relative_error[c]);
+        most_iterations = std::max(most_iterations, report.fit.iterations[c]);
+    }
+    const RusinkiewiczGrid& g = o.grid;
+    auto& m = model.metadata;
+    m.emplace_back("source", info.path.empty() ? "(in memory: " + info.format + ")" : info.path);
+    m.emplace_back("source_format", info.format);
+    if (!info.description.empty()) m.emplace_back("source_description", info.description);
+    m.emplace_back("preset", convert_preset_name(settings.preset));
+    m.emplace_back("fit_grid", std::to_string(g.theta_h) + "x" + std::to_string(g.phi_h) + "x" + std::to_string(g.theta_d) + "x" +
+                                   std::to_string(g.phi_d));
+    m.emplace_back("fit_phi_d_samples", std::to_string(o.phi_d_samples > 0 ? o.phi_d_samples : g.phi_d));
+    m.emplace_back("fit_samples", std::to_string(report.fit.samples));
+    m.emplace_back("fit_volume_weight", o.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle");
+    m.emplace_back("fit_importance_power", text(o.importance_power));
+    m.emplace_back("fit_compressive_power", text(o.compressive_power));
+    m.emplace_back("fit_compressive_epsilon", text(o.compressive_epsilon));
+    m.emplace_back("fit_max_iterations", std::to_string(o.max_iterations));
+    m.emplace_back("fit_tolerance", text(o.tolerance));
+    m.emplace_back("fit_iterations", std::to_string(most_iterations));
+    m.emplace_back("fit_weighted_error_max", text(worst_weighted));
+    m.emplace_back("fit_invalid_values", std::to_string(report.fit.invalid_values));
+    if (settings.error_pairs > 0) {
+        m.emplace_back("error_pairs", std::to_string(settings.error_pairs));
+        m.emplace_back("error_fitted_rel_rms_mean", text(report.fitted_error.mean_relative_rms));
+        m.emplace_back("error_fitted_rel_rms_max", text(report.fitted_error.max_relative_rms));
+        m.emplace_back("error_rel_rms_mean", text(report.compressed_error.mean_relative_rms));
+        m.emplace_back("error_rel_rms_max", text(report.compressed_error.max_relative_rms));
+    }
+    m.emplace_back("pca_d_ratio_requested", text(compression.d_ratio));
+    m.emplace_back("pca_g_ratio_requested", text(compression.g_ratio));
+
+    t = Clock::now();
+    write_npf_texture(model, output);
+    report.seconds_writing = seconds_since(t);
+    struct stat st {};
+    if (::stat(output.c_str(), &st) == 0) report.output_bytes = std::uint64_t(st.st_size);
+    if (progress) progress(1.0);
+    report.seconds = seconds_since(start);
+    report.peak_memory_gib = peak_memory_gib();
+    return report;
+}
+
+}  // namespace npf

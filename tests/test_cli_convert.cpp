@@ -1,0 +1,122 @@
+// End-to-end tests of `npf convert`: the built tool fits a material, writes a factor texture
+// that `npf info` and `npf eval` read back close to the source, prints its summary, and fails
+// with a message that names the problem and leaves no file behind. Grids are small so that each
+// run takes a second or less.
+#include "run_tool.h"
+#include "synthetic_rgl.h"
+
+#include <npf/converter/analytic/analytic_brdf.h>
+#include <npf/converter/material_recipe.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using npf::testing::contains;
+using npf::testing::describe;
+using npf::testing::folder_entries;
+using npf::testing::ToolRun;
+
+const std::vector<std::string> kSmall = {"--grid", "64,1,48,96", "--g-grid", "48,1", "--threads", "2", "--quiet", "--error-pairs", "2000"};
+
+ToolRun convert(std::vector<std::string> args) {
+    args.insert(args.begin(), "convert");
+    return npf::testing::run_tool(args);
+}
+
+std::string recipe(const std::string& name) { return std::string(NPF_SOURCE_DIR) + "/configs/materials/" + name + ".yaml"; }
+
+TEST(CliConvert, RecipeToTextureAndBack) {
+    const std::string dir = npf::testing::temporary_folder("convert");
+    const std::string out = dir + "/plastic.exr";
+    std::vector<std::string> args = {recipe("red_plastic"), "-o", out, "--wavelengths", "rgb"};
+    args.insert(args.end(), kSmall.begin(), kSmall.end());
+    const ToolRun r = convert(args);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_TRUE(contains(r.out, "wrote " + out)) << r.out;
+    EXPECT_TRUE(contains(r.out, "BRDF-space relative RMS")) << r.out;
+    EXPECT_TRUE(contains(r.out, "SVD ranks")) << r.out;
+    EXPECT_EQ(folder_entries(dir), std::vector<std::string>{"plastic.exr"});
+
+    const ToolRun info = npf::testing::run_tool({"info", out});
+    ASSERT_EQ(info.status, 0) << describe(info);
+    EXPECT_TRUE(contains(info.out, "npf")) << info.out;
+
+    // eval reads the texture back; compare with the analytic material away from grazing.
+    const npf::AnalyticBrdf source(npf::load_material_recipe(recipe("red_plastic")).material);
+    const std::string dirs = dir + "/dirs.txt";
+    std::ostringstream text;
+    const double pairs[][4] = {{20, 0, 20, 180}, {40, 30, 35, 200}, {10, 0, 50, 180}, {60, 90, 30, 250}};
+    const auto dir_of = [](double t, double p) {
+        return npf::spherical_direction(float(t * npf::kPiD / 180.0), float(p * npf::kPiD / 180.0));
+    };
+    for (const auto& p : pairs) {
+        const npf::Vec3 a = dir_of(p[0], p[1]), b = dir_of(p[2], p[3]);
+        text << a.x << " " << a.y << " " << a.z << " " << b.x << " " << b.y << " " << b.z << "\n";
+    }
+    ASSERT_TRUE(npf::testing::write_text(dirs, text.str()));
+    const ToolRun eval = npf::testing::run_tool({"eval", out, "--dirs", dirs, "--cos"});
+    ASSERT_EQ(eval.status, 0) << describe(eval);
+    std::istringstream lines(eval.out);  // one line of R G B per pair, in order
+    std::string line;
+    int checked = 0;
+    const npf::ChannelQuery q = source.query(npf::Channels::rgb());
+    while (std::getline(lines, line) && checked < 4) {
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream v(line);
+        double got[3];
+        ASSERT_TRUE(v >> got[0] >> got[1] >> got[2]) << line;
+        const double* p = pairs[checked];
+        float truth[3];
+        source.eval_cos(dir_of(p[0], p[1]), dir_of(p[2], p[3]), q, truth);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], truth[c], 0.1 * truth[c] + 1e-4) << line << " channel " << c;
+        ++checked;
+    }
+    EXPECT_EQ(checked, 4) << eval.out;
+}
+
+TEST(CliConvert, MeasuredFileWithPreset) {
+    const std::string input = npf::testing::shared_data_file("rgl/paper_white_rgb.bsdf");
+    if (input.empty()) GTEST_SKIP() << "shared data not present";
+    const std::string dir = npf::testing::temporary_folder("convert");
+    const ToolRun r = convert({input, "-o", dir + "/paper.exr", "--preset", "preview", "--quiet", "--threads", "2"});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_TRUE(contains(r.out, "preview preset")) << r.out;
+    EXPECT_TRUE(contains(r.out, "% of the input")) << r.out;
+}
+
+TEST(CliConvert, ErrorsNameTheProblemAndLeaveNoFile) {
+    const std::string dir = npf::testing::temporary_folder("convert");
+    struct Case {
+        std::vector<std::string> args;
+        std::string message;
+    };
+    const std::string out = dir + "/x.exr";
+    const std::vector<Case> cases = {
+        {{dir + "/missing.bsdf", "-o", out}, "missing.bsdf"},
+        {{recipe("red_plastic"), "-o", out, "--preset", "fast"}, "--preset"},
+        {{recipe("red_plastic"), "-o", out, "--grid", "24,1,24"}, "--grid"},
+        {{recipe("red_plastic"), "-o", out, "--pca", "0.99,1.5"}, "--pca"},
+        {{recipe("red_plastic"), "-o", out, "--wavelengths", "700:400:x"}, "wavelengths"},
+        {{recipe("red_plastic"), "-o", out, "--isotropy", "anisotropic", "--grid", "8,1,8,16"}, "phi"},
+        {{recipe("red_plastic"), "-o", dir + "/no/such/folder/x.exr", "--grid", "8,1,8,16", "--g-grid", "8,1", "--wavelengths", "rgb"},
+         "no/such/folder"},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string> args = c.args;
+        args.push_back("--quiet");
+        const ToolRun r = convert(args);
+        EXPECT_EQ(r.status, 1) << describe(r);
+        EXPECT_TRUE(contains(r.err, c.message)) << describe(r);
+    }
+    EXPECT_TRUE(folder_entries(dir).empty());
+    const ToolRun usage = convert({});
+    EXPECT_EQ(usage.status, 2) << describe(usage);
+}
+
+}  // namespace

@@ -1,0 +1,198 @@
+// npf convert: a measured (or analytic) material to an NPF factor texture (docs/format.md).
+#include "command_line.h"
+#include "commands.h"
+#include "progress.h"
+
+#include <npf/converter/analytic/analytic_brdf.h>
+#include <npf/converter/convert.h>
+#include <npf/converter/material_recipe.h>
+#include <npf/converter/open_brdf.h>
+#include <npf/core/error.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+
+namespace npf::cli {
+
+namespace {
+
+const std::vector<FlagSpec> kFlags = {
+    {"-o", true, "output factor texture (.exr), required"},
+    {"--preset", true, "preview, production (default) or paper (docs/fitting.md)"},
+    {"--wavelengths", true, "channels to fit: rgb, start:end:count or a,b,c nm (default: the source's)"},
+    {"--max-wavelengths", true, "keep at most this many of the source's wavelengths, evenly spread"},
+    {"--isotropy", true, "auto (default: as the source), isotropic or anisotropic"},
+    {"--grid", true, "fitting grid THETA_H,PHI_H,THETA_D,PHI_D (D and F tables)"},
+    {"--g-grid", true, "G table THETA,PHI"},
+    {"--phi-d-samples", true, "phi_d samples per ring (0: every grid cell)"},
+    {"--pca", true, "cumulative contribution ratios D,G kept by the SVD (e.g. 0.99,0.95; 1 = lossless)"},
+    {"--rank", true, "fixed SVD ranks D,G (overrides --pca)"},
+    {"--importance", true, "w_I power p: (cos_i cos_o)^p"},
+    {"--compressive", true, "w_C power q: (rho + eps)^-q"},
+    {"--epsilon", true, "w_C epsilon (1/sr)"},
+    {"--volume-weight", true, "paper (default) or three-angle (Bagher et al.)"},
+    {"--iterations", true, "most AWLS sweeps per block of channels"},
+    {"--tolerance", true, "stop when a sweep lowers the weighted error by less than this, relative"},
+    {"--plain", false, "no line-search extrapolation (the paper's plain alternation)"},
+    {"--error-pairs", true, "direction pairs of the BRDF-space error (0 skips it)"},
+    {"--threads", true, "threads (default: all cores)"},
+    {"--quiet", false, "no progress bar"},
+    {"--help", false, "show this help"},
+};
+
+long whole(const std::string& flag, const std::string& v, long lo, long hi) {
+    char* end = nullptr;
+    const long n = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || n < lo || n > hi) {
+        throw Error(flag, "needs a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + v + "'");
+    }
+    return n;
+}
+
+double number(const std::string& flag, const std::string& v) {
+    char* end = nullptr;
+    const double d = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !std::isfinite(d)) throw Error(flag, "'" + v + "' is not a number");
+    return d;
+}
+
+// "a,b,..." with exactly `count` parts.
+std::vector<std::string> parts(const std::string& flag, const std::string& v, std::size_t count) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = v.find(',', start);
+        out.push_back(v.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    if (out.size() != count) throw Error(flag, "expects " + std::to_string(count) + " comma-separated values, got '" + v + "'");
+    return out;
+}
+
+bool ends_with(const std::string& s, const std::string& tail) {
+    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+std::string megabytes(std::uint64_t bytes) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.2f MB", double(bytes) / 1e6);
+    return b;
+}
+
+}  // namespace
+
+int run_convert(const std::vector<std::string>& args) {
+    CommandLine cl("convert", args, kFlags);
+    if (cl.has("--help") || cl.positional().size() != 1 || !cl.has("-o")) {
+        std::printf("usage: npf convert IN -o OUT.exr [--preset preview|production|paper] [settings]\n\n"
+                    "Fits the NPF factors (paper Eq. 1) to a material: an RGL .bsdf or MERL .binary file, or an\n"
+                    "analytic recipe (.yaml, configs/materials/); compresses D and G across wavelengths; writes\n"
+                    "the factor texture. Settings override the preset. Example:\n"
+                    "  npf convert satin.bsdf -o satin.exr --preset production --wavelengths 380:780:81\n\n%s",
+                    usage_lines(kFlags).c_str());
+        return cl.has("--help") ? 0 : 2;
+    }
+    const std::string input = cl.positional()[0], output = cl.value("-o");
+    std::unique_ptr<Brdf> source;
+    if (ends_with(input, ".yaml") || ends_with(input, ".yml")) {
+        source = std::make_unique<AnalyticBrdf>(load_material_recipe(input).material);
+    } else {
+        source = open_brdf(input);
+    }
+
+    Isotropy isotropy = Isotropy::Auto;
+    if (cl.has("--isotropy")) {
+        const std::string v = cl.value("--isotropy");
+        if (v == "isotropic") isotropy = Isotropy::Isotropic;
+        else if (v == "anisotropic") isotropy = Isotropy::Anisotropic;
+        else if (v != "auto") throw Error("--isotropy", "'" + v + "' is not auto, isotropic or anisotropic");
+    }
+    const bool isotropic = isotropy == Isotropy::Auto ? source->info().isotropic : isotropy == Isotropy::Isotropic;
+    const ConvertPreset preset = parse_convert_preset(cl.value("--preset", "production"), "--preset");
+    ConvertSettings s = preset_settings(preset, isotropic);
+    s.isotropy = isotropy;
+    AwlsOptions& o = s.fit;
+    if (cl.has("--wavelengths")) s.wavelengths = cl.value("--wavelengths");
+    if (cl.has("--max-wavelengths")) s.max_wavelengths = int(whole("--max-wavelengths", cl.value("--max-wavelengths"), 0, 100000));
+    if (cl.has("--grid")) {
+        const auto p = parts("--grid", cl.value("--grid"), 4);
+        o.grid = {int(whole("--grid", p[0], 2, 4096)), int(whole("--grid", p[1], 1, 4096)), int(whole("--grid", p[2], 2, 4096)),
+                  int(whole("--grid", p[3], 2, 4096))};
+    }
+    if (cl.has("--g-grid")) {
+        const auto p = parts("--g-grid", cl.value("--g-grid"), 2);
+        o.g_theta = int(whole("--g-grid", p[0], 2, 4096));
+        o.g_phi = int(whole("--g-grid", p[1], 1, 4096));
+    }
+    if (cl.has("--phi-d-samples")) o.phi_d_samples = int(whole("--phi-d-samples", cl.value("--phi-d-samples"), 0, 4096));
+    if (cl.has("--pca")) {
+        const auto p = parts("--pca", cl.value("--pca"), 2);
+        s.compression.d_ratio = number("--pca", p[0]);
+        s.compression.g_ratio = number("--pca", p[1]);
+        for (double r : {s.compression.d_ratio, s.compression.g_ratio}) {
+            if (!(r > 0.0 && r <= 1.0)) throw Error("--pca", "ratios must lie in (0, 1]");
+        }
+    }
+    if (cl.has("--pca") || cl.has("--rank")) s.compress_rgb = true;
+    if (cl.has("--rank")) {
+        const auto p = parts("--rank", cl.value("--rank"), 2);
+        s.compression.d_rank = int(whole("--rank", p[0], 1, 100000));
+        s.compression.g_rank = int(whole("--rank", p[1], 1, 100000));
+    }
+    if (cl.has("--importance")) o.importance_power = number("--importance", cl.value("--importance"));
+    if (cl.has("--compressive")) o.compressive_power = number("--compressive", cl.value("--compressive"));
+    if (cl.has("--epsilon")) {
+        o.compressive_epsilon = number("--epsilon", cl.value("--epsilon"));
+        if (!(o.compressive_epsilon > 0.0)) throw Error("--epsilon", "must be positive");
+    }
+    if (cl.has("--volume-weight")) {
+        const std::string v = cl.value("--volume-weight");
+        if (v == "paper") o.volume_weight = VolumeWeight::Paper;
+        else if (v == "three-angle") o.volume_weight = VolumeWeight::ThreeAngle;
+        else throw Error("--volume-weight", "'" + v + "' is not paper or three-angle");
+    }
+    if (cl.has("--iterations")) o.max_iterations = int(whole("--iterations", cl.value("--iterations"), 1, 100000));
+    if (cl.has("--tolerance")) {
+        o.tolerance = number("--tolerance", cl.value("--tolerance"));
+        if (!(o.tolerance >= 0.0)) throw Error("--tolerance", "must not be negative");
+    }
+    if (cl.has("--plain")) o.extrapolate = false;
+    if (cl.has("--error-pairs")) s.error_pairs = int(whole("--error-pairs", cl.value("--error-pairs"), 0, 100000000));
+    if (cl.has("--threads")) o.threads = int(whole("--threads", cl.value("--threads"), 1, 1024));
+
+    ProgressBar bar("convert " + output, !cl.has("--quiet"));
+    const ConvertReport r = convert_material(*source, output, s, [&bar](double f) { bar.update(f); });
+    bar.finish();
+
+    const RusinkiewiczGrid& g = o.grid;
+    std::printf("wrote %s (%s preset)\n", output.c_str(), convert_preset_name(preset));
+    std::printf("  factors     %s, %zu %s; D %dx%d, F %d, G %dx%d; %zu samples%s\n", r.isotropic ? "isotropic" : "anisotropic",
+                r.channels.size(), r.channels.is_rgb() ? "RGB channels" : "wavelengths", g.theta_h, r.isotropic ? 1 : g.phi_h,
+                g.theta_d, o.g_theta, r.isotropic ? 1 : o.g_phi, r.fit.samples,
+                r.fit.invalid_values ? (", " + std::to_string(r.fit.invalid_values) + " invalid values ignored").c_str() : "");
+    std::printf("  SVD ranks   D %d (kept %.4f), G %d (kept %.4f)\n", r.d_rank, r.d_kept_ratio, r.g_rank, r.g_kept_ratio);
+    if (r.input_bytes > 0) {
+        std::printf("  size        %s from %s: %.2f %% of the input (1/%.0f)\n", megabytes(r.output_bytes).c_str(),
+                    megabytes(r.input_bytes).c_str(), 100.0 * double(r.output_bytes) / double(r.input_bytes),
+                    double(r.input_bytes) / double(std::max<std::uint64_t>(1, r.output_bytes)));
+    } else {
+        std::printf("  size        %s\n", megabytes(r.output_bytes).c_str());
+    }
+    if (s.error_pairs > 0) {
+        std::printf("  error       BRDF-space relative RMS %.3f %% mean, %.3f %% worst channel (fitted: %.3f %% / %.3f %%)\n",
+                    100.0 * r.compressed_error.mean_relative_rms, 100.0 * r.compressed_error.max_relative_rms,
+                    100.0 * r.fitted_error.mean_relative_rms, 100.0 * r.fitted_error.max_relative_rms);
+    }
+    int most = 0;
+    for (int it : r.fit.iterations) most = std::max(most, it);
+    std::printf("  time        %.1f s: resampling %.1f, fitting %.1f (%d sweeps at most), SVD %.1f, error %.1f, writing %.1f; "
+                "peak memory %.2f GiB\n",
+                r.seconds, r.fit.seconds_resampling, r.fit.seconds_fitting, most, r.seconds_compression, r.seconds_error,
+                r.seconds_writing, r.peak_memory_gib);
+    return 0;
+}
+
+}  // namespace npf::cli
