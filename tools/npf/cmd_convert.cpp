@@ -35,6 +35,7 @@ const std::vector<FlagSpec> kFlags = {
     {"--volume-weight", true, "paper (default) or three-angle (Bagher et al.)"},
     {"--iterations", true, "most AWLS sweeps per block of channels"},
     {"--tolerance", true, "stop when a sweep lowers the weighted error by less than this, relative"},
+    {"--g-prior", true, "smith (G starts from Smith's masking of D and stays <= 1), smith-start (starts there only), bounded (G <= 1 only) or free"},
     {"--plain", false, "no line-search extrapolation (the paper's plain alternation)"},
     {"--error-pairs", true, "direction pairs of the BRDF-space error (0 skips it)"},
     {"--threads", true, "threads (default: all cores)"},
@@ -160,6 +161,14 @@ int run_convert(const std::vector<std::string>& args) {
         if (!(o.tolerance >= 0.0)) throw Error("--tolerance", "must not be negative");
     }
     if (cl.has("--plain")) o.extrapolate = false;
+    if (cl.has("--g-prior")) {
+        const std::string v = cl.value("--g-prior");
+        if (v == "smith") o.smith_start = o.bound_g = true;
+        else if (v == "smith-start") o.smith_start = true, o.bound_g = false;
+        else if (v == "bounded") o.smith_start = false, o.bound_g = true;
+        else if (v == "free") o.smith_start = o.bound_g = false;
+        else throw Error("--g-prior", "'" + v + "' is not smith, smith-start, bounded or free");
+    }
     if (cl.has("--error-pairs")) s.error_pairs = int(whole("--error-pairs", cl.value("--error-pairs"), 0, 100000000));
     if (cl.has("--threads")) o.threads = int(whole("--threads", cl.value("--threads"), 1, 1024));
 

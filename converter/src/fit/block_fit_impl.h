@@ -351,7 +351,8 @@ void BlockFit<L>::normalise(BlockFactors<L>& f) const {
         for (std::size_t k = 0; k < m_s.d_cells; ++k) f.D[k * L + ul] = float(f.D[k * L + ul] / a);
         // G <= 1 (= G at normal incidence): masking only takes light away. It also closes the
         // near-symmetry G -> G s, F -> F / s^2 in the direction where G would grow past 1.
-        for (std::size_t k = 0; k < m_s.g_cells; ++k) f.G[k * L + ul] = float(std::min(1.0, f.G[k * L + ul] / g));
+        const double bound = m_o.bound_g ? 1.0 : INFINITY;
+        for (std::size_t k = 0; k < m_s.g_cells; ++k) f.G[k * L + ul] = float(std::min(bound, f.G[k * L + ul] / g));
         for (std::size_t k = 0; k < m_s.f_cells; ++k) f.F[k * L + ul] = float(f.F[k * L + ul] / f0);
         f.rho_s[ul] *= a * g * g * f0;
     }
@@ -401,7 +402,7 @@ void BlockFit<L>::smith_g_from_d(BlockFactors<L>& f) const {
             }
             for (int l = 0; l < L; ++l) {
                 const double projected = sigma[l] / area[std::size_t(l)];
-                G[k * L + std::size_t(l)] = projected > 0.0 ? float(std::min(1.0, wz / projected)) : f.G[k * L + std::size_t(l)];
+                G[k * L + std::size_t(l)] = projected > 0.0 ? float(wz / projected) : f.G[k * L + std::size_t(l)];
             }
         }
     });

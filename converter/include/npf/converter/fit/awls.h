@@ -43,6 +43,10 @@ struct AwlsOptions {
     // Start G from Smith's masking of the first D estimate (docs/fitting.md): the factors then
     // take the physically meaningful split between F and G, which the data hardly constrain.
     bool smith_start = true;
+    // G <= 1 (its value at normal incidence) after every sweep: masking only removes light.
+    // Right for microfacet materials (their F and G then match the true ones more closely),
+    // wrong for fabrics and other materials whose G grows at grazing (docs/fitting.md).
+    bool bound_g = false;
     int max_iterations = 300;
     double tolerance = 1e-5;      // stop when the weighted error falls by less than this, relative
     int threads = 0;              // 0: all hardware threads
