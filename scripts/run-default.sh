@@ -1,13 +1,21 @@
 #!/usr/bin/env bash
 # The main job on the shipped default (README, first line): installs what is missing, builds,
-# then inspects and probes the shipped measured material.
+# converts the shipped measured material to an NPF factor texture (out/), and compares the
+# measured and the fitted material at the probe directions.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j2
 material=data/materials/ilm_l3_37_metallic_rgb.bsdf
+mkdir -p out
 build/tools/npf/npf info "$material"
 echo
-echo "f_r (1/sr) at the probe directions of data/materials/probe_dirs.txt:"
+build/tools/npf/npf convert "$material" -o out/ilm_l3_37_metallic.exr --preset production
+echo
+build/tools/npf/npf info out/ilm_l3_37_metallic.exr
+echo
+echo "f_r (1/sr) at the probe directions of data/materials/probe_dirs.txt, measured:"
 build/tools/npf/npf eval "$material" --dirs data/materials/probe_dirs.txt
+echo "and fitted (out/ilm_l3_37_metallic.exr):"
+build/tools/npf/npf eval out/ilm_l3_37_metallic.exr --dirs data/materials/probe_dirs.txt
