@@ -2,6 +2,7 @@
 // Matusik et al.) operation for operation in double, including its vector rotations, so that
 // bin choices agree with it even at bin edges and for in-plane configurations, where the sign
 // of a zero decides between the first and last phi_d bin.
+#include <npf/core/cosine_sampling.h>
 #include <npf/converter/merl_brdf.h>
 
 #include <npf/core/atomic_file.h>
@@ -413,35 +414,7 @@ float MerlBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
 
 bool MerlBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
                       float* weight) const {
-    const std::size_t n = query.size();
-    if (weight) std::fill(weight, weight + n, 0.f);
-    if (!(wi.z > 0.f)) return false;
-
-    // Shirley-Chiu concentric map of u onto the unit disk, lifted to the hemisphere.
-    const float a = 2.f * u.x - 1.f, b = 2.f * u.y - 1.f;
-    float r = 0.f, phi = 0.f;
-    if (a != 0.f || b != 0.f) {
-        if (std::fabs(a) > std::fabs(b)) {
-            r = a;
-            phi = (kPi / 4.f) * (b / a);
-        } else {
-            r = b;
-            phi = (kPi / 2.f) - (kPi / 4.f) * (a / b);
-        }
-    }
-    const float z = std::sqrt(std::max(0.f, 1.f - r * r));
-    if (!(z > 0.f)) return false;
-    const Vec3 wo{r * std::cos(phi), r * std::sin(phi), z};
-    const float p = pdf(wi, wo);
-    if (!(p > 0.f)) return false;
-
-    s.wo = wo;
-    s.pdf = p;
-    if (weight) {
-        eval_cos(wi, wo, query, weight);
-        for (std::size_t k = 0; k < n; ++k) weight[k] /= p;
-    }
-    return true;
+    return sample_cosine_hemisphere(*this, wi, u, query, s, weight);
 }
 
 // ---- Writing -----------------------------------------------------------------------------

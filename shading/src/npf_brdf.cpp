@@ -1,4 +1,6 @@
 #include <npf/shading/npf_brdf.h>
+
+#include <npf/core/cosine_sampling.h>
 #include <npf/shading/npf_texture_file.h>
 
 #include <npf/core/error.h>
@@ -91,35 +93,7 @@ float NpfBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
 }
 
 bool NpfBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s, float* weight) const {
-    const std::size_t n = query.size();
-    if (weight) std::fill(weight, weight + n, 0.f);
-    if (!(wi.z > 0.f)) return false;
-
-    // Shirley-Chiu concentric map of u onto the unit disk, lifted to the hemisphere.
-    const float a = 2.f * u.x - 1.f, b = 2.f * u.y - 1.f;
-    float r = 0.f, phi = 0.f;
-    if (a != 0.f || b != 0.f) {
-        if (std::fabs(a) > std::fabs(b)) {
-            r = a;
-            phi = (kPi / 4.f) * (b / a);
-        } else {
-            r = b;
-            phi = (kPi / 2.f) - (kPi / 4.f) * (a / b);
-        }
-    }
-    const float z = std::sqrt(std::max(0.f, 1.f - r * r));
-    if (!(z > 0.f)) return false;
-    const Vec3 wo{r * std::cos(phi), r * std::sin(phi), z};
-    const float p = pdf(wi, wo);
-    if (!(p > 0.f)) return false;
-
-    s.wo = wo;
-    s.pdf = p;
-    if (weight) {
-        eval_cos(wi, wo, query, weight);
-        for (std::size_t k = 0; k < n; ++k) weight[k] /= p;
-    }
-    return true;
+    return sample_cosine_hemisphere(*this, wi, u, query, s, weight);
 }
 
 }  // namespace npf

@@ -34,7 +34,7 @@ struct AwlsOptions {
     VolumeWeight volume_weight = VolumeWeight::Paper;
     // w_I = (cos theta_i cos theta_o)^importance_power (0 disables);
     // w_C = (max(rho, 0) + compressive_epsilon)^-compressive_power (0 disables).
-    double importance_power = 1.0;
+    double importance_power = 2.0;   // chosen by bench/weight_sweep.sh (docs/fitting.md)
     double compressive_power = 0.0;
     double compressive_epsilon = 0.01;
     // Line-search extrapolation after each sweep (docs/fitting.md): fewer sweeps to the same
