@@ -82,21 +82,16 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
         s.error_pairs = 5000;
         break;
     case ConvertPreset::Production:
+    case ConvertPreset::Paper: {  // the paper's grid; paper samples more finely and fits longer
         o.grid = isotropic ? RusinkiewiczGrid{90, 1, 90, 180} : RusinkiewiczGrid{90, 180, 90, 180};
         o.g_theta = 90;
         o.g_phi = isotropic ? 1 : 180;
-        o.phi_d_samples = isotropic ? 0 : 8;
-        o.max_iterations = 200;
-        o.tolerance = 1e-5;
+        const bool paper = preset == ConvertPreset::Paper;
+        o.phi_d_samples = isotropic ? 0 : (paper ? 16 : 8);
+        o.max_iterations = paper ? 500 : 200;
+        o.tolerance = paper ? 1e-6 : 1e-5;
         break;
-    case ConvertPreset::Paper:
-        o.grid = isotropic ? RusinkiewiczGrid{90, 1, 90, 180} : RusinkiewiczGrid{90, 180, 90, 180};
-        o.g_theta = 90;
-        o.g_phi = isotropic ? 1 : 180;
-        o.phi_d_samples = isotropic ? 0 : 16;
-        o.max_iterations = 500;
-        o.tolerance = 1e-6;
-        break;
+    }
     }
     return s;
 }

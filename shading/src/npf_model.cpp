@@ -1,6 +1,7 @@
 #include <npf/shading/npf_model.h>
 
 #include <npf/core/error.h>
+#include <npf/shading/table_interpolation.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,30 +13,12 @@ namespace {
 
 constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
 
-// Interpolation position on cell centres: x in cell units (centre of cell k at k + 1/2).
-struct Lerp {
-    int i0 = 0, i1 = 0;
-    double t = 0.0;
-};
-
-Lerp clamped(double x, int n) {
-    Lerp l;
-    const double c = std::clamp(x - 0.5, 0.0, double(n - 1));
-    l.i0 = std::min(int(c), n - 1);
-    l.i1 = std::min(l.i0 + 1, n - 1);
-    l.t = c - l.i0;
-    return l;
-}
-
-Lerp periodic(double x, int n) {
-    Lerp l;
-    double c = x - 0.5;
-    c -= std::floor(c / n) * n;
-    l.i0 = std::min(int(c), n - 1);
-    l.i1 = (l.i0 + 1) % n;
-    l.t = c - l.i0;
-    return l;
-}
+using table::Lerp;
+using table::clamped;
+using table::periodic;
+using table::extrapolated;
+using table::polar;
+using table::azimuth;
 
 NpfModel::Lookup::Bilinear bilinear(const Lerp& row, const Lerp& col, int cols) {
     NpfModel::Lookup::Bilinear b;
@@ -49,27 +32,6 @@ NpfModel::Lookup::Bilinear bilinear(const Lerp& row, const Lerp& col, int cols) 
     b.weight[2] = row.t * (1 - col.t);
     b.weight[3] = row.t * col.t;
     return b;
-}
-
-// Angle from +z and azimuth in [0, 2 pi) of a direction; atan2 keeps the polar angle accurate
-// near the pole, where acos loses half the digits.
-double polar(double x, double y, double z) { return std::atan2(std::sqrt(x * x + y * y), z); }
-double azimuth(double x, double y) {
-    const double phi = std::atan2(y, x);
-    return phi < 0.0 ? phi + kTwoPi : phi;
-}
-
-// G's rows: flat below the first centre, and beyond the last one continued along the line
-// through the last two rows (t > 1), so that G can fall to 0 at grazing angles: the fitter's own
-// interpolation (NpfFactors::eval). The clamp at 0 follows when the channels are combined.
-Lerp extrapolated(double x, int n) {
-    Lerp l;
-    if (n == 1) return l;
-    const double c = std::max(0.0, x - 0.5);
-    l.i0 = std::min(int(c), n - 2);
-    l.i1 = l.i0 + 1;
-    l.t = c - l.i0;
-    return l;
 }
 
 // G's cell position for one direction.

@@ -435,7 +435,7 @@ int BlockFit<L>::run(BlockFactors<L>& f, bool cold, std::array<double, L>& error
     BlockFactors<L> before, trial;
     int it = 0;
     while (it < m_o.max_iterations) {
-        before = f;
+        if (m_o.extrapolate) before = f;  // the start of the move to extrapolate
         update_d_and_diffuse(f);
         if (cold && it == 0 && m_o.smith_start) {
             smith_g_from_d(f);

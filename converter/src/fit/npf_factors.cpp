@@ -1,6 +1,7 @@
 #include <npf/converter/fit/npf_factors.h>
 
 #include <npf/core/vec.h>
+#include <npf/shading/table_interpolation.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,30 +12,9 @@ namespace {
 
 constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
 
-// Linear interpolation position on cell centres: x in cell units (centre of cell k at k + 1/2).
-struct Lerp {
-    int i0 = 0, i1 = 0;
-    double t = 0.0;
-};
-
-Lerp clamped(double x, int n) {
-    Lerp l;
-    const double c = std::clamp(x - 0.5, 0.0, double(n - 1));
-    l.i0 = std::min(int(c), n - 1);
-    l.i1 = std::min(l.i0 + 1, n - 1);
-    l.t = c - l.i0;
-    return l;
-}
-
-Lerp periodic(double x, int n) {
-    Lerp l;
-    double c = x - 0.5;
-    c -= std::floor(c / n) * n;
-    l.i0 = std::min(int(c), n - 1);
-    l.i1 = (l.i0 + 1) % n;
-    l.t = c - l.i0;
-    return l;
-}
+using table::Lerp;
+using table::clamped;
+using table::periodic;
 
 double table2(const float* t, int cols, const Lerp& r, const Lerp& c) {
     const double a = t[r.i0 * cols + c.i0] * (1 - c.t) + t[r.i0 * cols + c.i1] * c.t;
@@ -55,19 +35,11 @@ double NpfFactors::eval(std::size_t c, const Vec3d& wi, const Vec3d& wo) const {
                              periodic(a.phi_h / kTwoPi * grid.phi_h, grid.phi_h));
     const Lerp fl = clamped(a.theta_d / kHalfPi * grid.theta_d, grid.theta_d);
     const double fv = f[fl.i0] * (1 - fl.t) + f[fl.i1] * fl.t;
-    // G: bilinear between cell centres, flat below the first theta centre, and beyond the last
-    // one continued along the line through the last two rows towards the horizon (never below
-    // 0): the fit's own interpolation (fit/sample_set.h), which lets G fall to 0 at grazing.
+    // G: bilinear on its cell centres, extrapolated towards the horizon (table::extrapolated).
     auto gv = [&](const Vec3d& w) {
-        const double theta = std::acos(std::clamp(w.z, -1.0, 1.0));
-        double phi = std::atan2(w.y, w.x);
-        if (phi < 0.0) phi += kTwoPi;
-        const Lerp col = periodic(phi / kTwoPi * g_phi, g_phi);
-        const double x = std::max(0.0, theta / kHalfPi * g_theta - 0.5);
-        const int r0 = std::min(int(x), g_theta - 2);
-        const double t = x - r0;  // > 1 beyond the last centre: extrapolation
-        auto row = [&](int i) { return double(g[i * g_phi + col.i0]) * (1 - col.t) + double(g[i * g_phi + col.i1]) * col.t; };
-        return std::max(0.0, row(r0) * (1 - t) + row(r0 + 1) * t);
+        const Lerp row = table::extrapolated(table::polar(w.x, w.y, w.z) / kHalfPi * g_theta, g_theta);
+        const Lerp col = periodic(table::azimuth(w.x, w.y) / kTwoPi * g_phi, g_phi);
+        return std::max(0.0, table2(g, g_phi, row, col));
     };
     return rho_d[c] + rho_s[c] * dv * fv * gv(wi) * gv(wo) / (wi.z * wo.z);
 }

@@ -1,0 +1,61 @@
+// Where a value falls on a factor table whose samples sit at cell centres (centre of cell k at
+// k + 1/2, in cell units): the two cells to blend and the weight of the second. One definition
+// for the fitter's tables (NpfFactors) and the stored model (NpfModel), so that a file
+// evaluates exactly as the fit that wrote it (docs/format.md).
+#pragma once
+
+#include <npf/core/vec.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace npf::table {
+
+struct Lerp {
+    int i0 = 0, i1 = 0;
+    double t = 0.0;  // weight of i1
+};
+
+// Clamped at the outer centres (theta axes of D and F).
+inline Lerp clamped(double x, int n) {
+    Lerp l;
+    const double c = std::clamp(x - 0.5, 0.0, double(n - 1));
+    l.i0 = std::min(int(c), n - 1);
+    l.i1 = std::min(l.i0 + 1, n - 1);
+    l.t = c - l.i0;
+    return l;
+}
+
+// Periodic (phi axes).
+inline Lerp periodic(double x, int n) {
+    Lerp l;
+    double c = x - 0.5;
+    c -= std::floor(c / n) * n;
+    l.i0 = std::min(int(c), n - 1);
+    l.i1 = (l.i0 + 1) % n;
+    l.t = c - l.i0;
+    return l;
+}
+
+// G's theta axis: flat below the first centre, and beyond the last one continued along the
+// line through the last two rows (t > 1), so that G can fall to 0 at grazing angles, as the
+// fitter's interpolation does (fit/sample_set.h). Callers clamp the result at 0.
+inline Lerp extrapolated(double x, int n) {
+    Lerp l;
+    if (n == 1) return l;
+    const double c = std::max(0.0, x - 0.5);
+    l.i0 = std::min(int(c), n - 2);
+    l.i1 = l.i0 + 1;
+    l.t = c - l.i0;
+    return l;
+}
+
+// Angle from +z and azimuth in [0, 2 pi) of a direction; atan2 keeps the polar angle accurate
+// near the pole, where acos loses half the digits.
+inline double polar(double x, double y, double z) { return std::atan2(std::sqrt(x * x + y * y), z); }
+inline double azimuth(double x, double y) {
+    const double phi = std::atan2(y, x);
+    return phi < 0.0 ? phi + 2.0 * kPiD : phi;
+}
+
+}  // namespace npf::table
