@@ -7,10 +7,8 @@
 //        [--pairs N]
 //
 // SOURCE is a material file (RGL, MERL, ...) or a recipe (.yaml), fitted analytically.
-#include <npf/converter/analytic/analytic_brdf.h>
 #include <npf/converter/fit/awls.h>
 #include <npf/converter/fit/fit_error.h>
-#include <npf/converter/material_recipe.h>
 #include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
 
@@ -28,10 +26,6 @@ double peak_rss_gib() {
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
     return double(u.ru_maxrss) / (1024.0 * 1024.0);
-}
-
-bool ends_with(const std::string& s, const std::string& tail) {
-    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
 }  // namespace
@@ -71,13 +65,7 @@ int main(int argc, char** argv) try {
         else if (a == "--pairs") pairs = std::atoi(next().c_str());
         else throw npf::Error(a, "unknown option");
     }
-    std::unique_ptr<npf::Brdf> source;
-    if (ends_with(path, ".yaml") || ends_with(path, ".yml")) {
-        const npf::MaterialRecipe recipe = npf::load_material_recipe(path);
-        source = std::make_unique<npf::AnalyticBrdf>(recipe.material);
-    } else {
-        source = npf::open_brdf(path);
-    }
+    const std::unique_ptr<npf::Brdf> source = npf::open_material(path);
     const npf::Channels stored = source->info().channels;
     if (wavelengths == "rgb") o.channels = npf::Channels::rgb();
     else if (!wavelengths.empty()) o.channels = npf::Channels::spectral(npf::parse_wavelength_list(wavelengths, "--wavelengths"));

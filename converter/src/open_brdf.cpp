@@ -1,3 +1,5 @@
+#include <npf/converter/analytic/analytic_brdf.h>
+#include <npf/converter/material_recipe.h>
 #include <npf/converter/merl_brdf.h>
 #include <npf/converter/open_brdf.h>
 #include <npf/converter/rgl_brdf.h>
@@ -27,6 +29,15 @@ std::unique_ptr<Brdf> open_brdf(const std::string& path) {
     // Any OpenEXR file is taken for an NPF texture: the reader says what is missing if it is not.
     if (has_exr_magic(head, got)) return std::make_unique<NpfBrdf>(path);
     throw Error(path, "unknown material format (not an RGL tensor_file, a MERL .binary or an NPF texture .exr)");
+}
+
+std::unique_ptr<Brdf> open_material(const std::string& path) {
+    auto ends_with = [&](const char* tail) {
+        const std::size_t n = std::strlen(tail);
+        return path.size() >= n && path.compare(path.size() - n, n, tail) == 0;
+    };
+    if (ends_with(".yaml") || ends_with(".yml")) return std::make_unique<AnalyticBrdf>(load_material_recipe(path).material);
+    return open_brdf(path);
 }
 
 }  // namespace npf

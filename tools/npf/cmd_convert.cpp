@@ -3,9 +3,7 @@
 #include "commands.h"
 #include "progress.h"
 
-#include <npf/converter/analytic/analytic_brdf.h>
 #include <npf/converter/convert.h>
-#include <npf/converter/material_recipe.h>
 #include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
 
@@ -73,10 +71,6 @@ std::vector<std::string> parts(const std::string& flag, const std::string& v, st
     return out;
 }
 
-bool ends_with(const std::string& s, const std::string& tail) {
-    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
 std::string megabytes(std::uint64_t bytes) {
     char b[32];
     std::snprintf(b, sizeof b, "%.2f MB", double(bytes) / 1e6);
@@ -97,12 +91,7 @@ int run_convert(const std::vector<std::string>& args) {
         return cl.has("--help") ? 0 : 2;
     }
     const std::string input = cl.positional()[0], output = cl.value("-o");
-    std::unique_ptr<Brdf> source;
-    if (ends_with(input, ".yaml") || ends_with(input, ".yml")) {
-        source = std::make_unique<AnalyticBrdf>(load_material_recipe(input).material);
-    } else {
-        source = open_brdf(input);
-    }
+    const std::unique_ptr<Brdf> source = open_material(input);
 
     Isotropy isotropy = Isotropy::Auto;
     if (cl.has("--isotropy")) {

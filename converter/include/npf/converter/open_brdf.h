@@ -14,4 +14,8 @@ namespace npf {
 // malformed.
 std::unique_ptr<Brdf> open_brdf(const std::string& path);
 
+// A material file as open_brdf opens it, or an analytic recipe (a name ending in .yaml or
+// .yml; docs/synth.md) evaluated exactly: what `npf convert` and the benchmarks accept.
+std::unique_ptr<Brdf> open_material(const std::string& path);
+
 }  // namespace npf
