@@ -213,20 +213,24 @@ TEST(NpfModel, EvaluatesAsTheFactorsAtFullRank) {
     }
 }
 
-// Ranks above the cached limit take the corner-by-corner path; it must give the same values.
+// Ranks above the cached limit (and lookups prepared without projection) take the corner-by-
+// corner path; it must give the same values as the cached one.
 TEST(NpfModel, LargeRanksEvaluateAlike) {
     const NpfFactors f = make_test_factors({true, 80, true, 21});
     const NpfModel m = npf::compress_factors(f, CompressionOptions());
-    ASSERT_GT(m.D.rank, NpfModel::kInlineRank);
+    ASSERT_GT(m.D.rank, 64);
     std::mt19937 rng(5);
     for (int n = 0; n < 100; ++n) {
         const Vec3 wi = random_direction(rng), wo = random_direction(rng);
-        NpfModel::Lookup at;
-        ASSERT_TRUE(m.prepare(wi, wo, at));
-        EXPECT_FALSE(at.cached);
+        NpfModel::Lookup cached, direct;
+        ASSERT_TRUE(m.prepare(wi, wo, cached));
+        ASSERT_TRUE(m.prepare(wi, wo, direct, /*project_bases=*/false));
+        EXPECT_TRUE(cached.cached);
+        EXPECT_FALSE(direct.cached);
         for (std::size_t c = 0; c < f.channel_count(); c += 7) {
             const double want = f.eval(c, to_double(wi), to_double(wo));
-            ASSERT_NEAR(m.value(at, c), want, 1e-5 * std::fabs(want));
+            ASSERT_NEAR(m.value(direct, c), want, 1e-5 * std::fabs(want));
+            ASSERT_NEAR(m.value(cached, c), m.value(direct, c), 1e-12 * std::fabs(want));
         }
     }
 }

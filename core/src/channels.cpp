@@ -25,6 +25,20 @@ std::string Channels::describe() const {
     return os.str();
 }
 
+void locate_wavelength(const float* grid, std::size_t n, float lambda, std::uint32_t& i0, std::uint32_t& i1,
+                       float& t) {
+    i0 = i1 = 0;
+    t = 0.f;
+    if (n < 2) return;
+    const float* it = std::upper_bound(grid, grid + n, lambda);
+    std::size_t i = it == grid ? 0 : std::size_t(it - grid) - 1;
+    i = std::min(i, n - 2);
+    i0 = std::uint32_t(i);
+    i1 = i0 + 1;
+    const float span = grid[i1] - grid[i0];
+    t = span > 0.f ? std::clamp((lambda - grid[i0]) / span, 0.f, 1.f) : 0.f;
+}
+
 ChannelQuery make_channel_query(const Channels& stored, const Channels& requested,
                                 const std::string& source) {
     ChannelQuery q;
@@ -48,19 +62,9 @@ ChannelQuery make_channel_query(const Channels& stored, const Channels& requeste
             throw Error(source, "requested wavelength " + std::to_string(lambda) +
                                     " nm is not a positive finite number");
         }
-        // Linear between neighbours, constant outside: the parameter-blend rule of the
-        // RGL readers (docs/rgl-format.md sec. 3.1) applied to the wavelength axis.
         std::uint32_t i0 = 0, i1 = 0;
         float t = 0.f;
-        if (grid.size() > 1) {
-            auto it = std::upper_bound(grid.begin(), grid.end(), lambda);
-            std::size_t i = it == grid.begin() ? 0 : std::size_t(it - grid.begin()) - 1;
-            i = std::min(i, grid.size() - 2);
-            i0 = std::uint32_t(i);
-            i1 = i0 + 1;
-            float span = grid[i1] - grid[i0];
-            t = span > 0.f ? std::clamp((lambda - grid[i0]) / span, 0.f, 1.f) : 0.f;
-        }
+        locate_wavelength(grid.data(), grid.size(), lambda, i0, i1, t);
         q.index0.push_back(i0);
         q.index1.push_back(i1);
         q.weight1.push_back(t);

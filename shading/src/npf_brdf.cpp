@@ -1,6 +1,5 @@
 #include <npf/shading/npf_brdf.h>
 
-#include <npf/core/cosine_sampling.h>
 #include <npf/shading/npf_texture_file.h>
 
 #include <npf/core/error.h>
@@ -54,46 +53,40 @@ BrdfInfo describe(const NpfModel& m, const std::string& path, std::uint64_t file
 
 }  // namespace
 
-NpfBrdf::NpfBrdf(NpfModel model) : NpfBrdf(std::move(model), std::string(), 0) {}
+NpfBrdf::NpfBrdf(NpfModel model) : NpfBrdf(std::make_unique<NpfClosure>(std::move(model)), std::string(), 0) {}
 
-NpfBrdf::NpfBrdf(const std::string& path)
-    : NpfBrdf(read_npf_texture(path), path, require_regular_file(path, "an NPF texture (.exr)")) {}
+NpfBrdf::NpfBrdf(const std::string& path, NpfClosure::Path path_kind, OIIO::TextureSystem* ts)
+    : NpfBrdf(std::make_unique<NpfClosure>(path, path_kind, ts), path,
+              require_regular_file(path, "an NPF texture (.exr)")) {}
 
-NpfBrdf::NpfBrdf(NpfModel model, const std::string& path, std::uint64_t file_bytes) : m_model(std::move(model)) {
-    m_model.validate(path.empty() ? std::string("NPF model") : path);
-    m_info = describe(m_model, path, file_bytes);
+NpfBrdf::NpfBrdf(std::unique_ptr<NpfClosure> closure, const std::string& path, std::uint64_t file_bytes)
+    : m_closure(std::move(closure)) {
+    m_info = describe(m_closure->model(), path, file_bytes);
+    if (m_closure->path() == NpfClosure::Path::Texture) {
+        m_info.details.emplace_back("shading path", "texture (OpenImageIO TextureSystem)");
+    }
 }
 
+namespace {
+WavelengthRequest request_of(const ChannelQuery& query) {
+    const Channels& r = query.requested;
+    return r.is_rgb() ? WavelengthRequest::stored() : WavelengthRequest::at(r.wavelengths().data(), int(r.size()));
+}
+}  // namespace
+
+// npf::Brdf conditions on wi (the closure's wo) and returns f_r cos of its wo (the closure's wi).
 void NpfBrdf::eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& query, float* out) const {
-    const std::size_t n = query.size();
-    NpfModel::Lookup at;
-    if (!m_model.prepare(wi, wo, at)) {
-        std::fill(out, out + n, 0.f);
-        return;
-    }
-    const std::size_t C = m_model.channel_count();
-    for (std::size_t k = 0; k < n; ++k) {
-        const std::uint32_t i0 = query.index0[k], i1 = query.index1[k];
-        const double w1 = query.weight1[k];
-        const double a = i0 < C ? m_model.value(at, i0) : 0.0;
-        const double b = w1 == 0.0 ? 0.0 : (i1 < C ? m_model.value(at, i1) : 0.0);
-        double v = ((1.0 - w1) * a + w1 * b) * at.cos_o;
-        if (!std::isfinite(v)) v = 0.0;  // f_r cos can overflow only for directions grazing to 1e-38
-        if (query.clamp_negative && v < 0.0) v = 0.0;
-        out[k] = float(v);
-    }
+    m_closure->eval(wi, wo, request_of(query), out);
 }
 
-// ---- Sampling ----------------------------------------------------------------------------
-// Cosine-weighted: exact for the diffuse term, never zero where the BRDF is not.
-
-float NpfBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
-    if (!(wi.z > 0.f) || !(wo.z > 0.f)) return 0.f;
-    return wo.z * (1.f / kPi);
-}
+float NpfBrdf::pdf(const Vec3& wi, const Vec3& wo) const { return m_closure->pdf(wi, wo); }
 
 bool NpfBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s, float* weight) const {
-    return sample_cosine_hemisphere(*this, wi, u, query, s, weight);
+    ClosureSample c;
+    const bool ok = m_closure->sample(wi, u.x, u.y, request_of(query), c, weight);
+    s.wo = c.wi;
+    s.pdf = ok ? c.pdf : 0.f;
+    return ok;
 }
 
 }  // namespace npf

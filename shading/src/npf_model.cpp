@@ -35,9 +35,13 @@ NpfModel::Lookup::Bilinear bilinear(const Lerp& row, const Lerp& col, int cols) 
 }
 
 // G's cell position for one direction.
-NpfModel::Lookup::Bilinear g_position(double x, double y, double z, int g_theta, int g_phi) {
-    return bilinear(extrapolated(polar(x, y, z) / kHalfPi * g_theta, g_theta),
-                    periodic(azimuth(x, y) / kTwoPi * g_phi, g_phi), g_phi);
+NpfModel::Lookup::Bilinear g_position(double x, double y, double z, int g_theta, int g_phi, double& row,
+                                      double& col) {
+    const Lerp r = extrapolated(polar(x, y, z) / kHalfPi * g_theta, g_theta);
+    const Lerp c = periodic(azimuth(x, y) / kTwoPi * g_phi, g_phi);
+    row = r.i0 + r.t;
+    col = c.i0 + c.t;
+    return bilinear(r, c, g_phi);
 }
 
 double interpolate(const float* table, const NpfModel::Lookup::Bilinear& b) {
@@ -162,7 +166,7 @@ void NpfModel::validate(const std::string& source) const {
     check_basis(G, "G", std::size_t(g_theta) * std::size_t(g_phi), C, source);
 }
 
-bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at) const {
+bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_bases) const {
     if (!(wi.z > 0.f) || !(wo.z > 0.f) || !finite(wi) || !finite(wo)) return false;
     const double ix = wi.x, iy = wi.y, iz = wi.z, ox = wo.x, oy = wo.y, oz = wo.z;
     double hx = ix + ox, hy = iy + oy, hz = iz + oz;
@@ -173,19 +177,26 @@ bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at) const {
     const double theta_h = polar(hx, hy, hz), phi_h = azimuth(hx, hy);
     // theta_d is the angle between wi and h: atan2(|wi x h|, wi . h), accurate at both ends.
     const double cx = iy * hz - iz * hy, cy = iz * hx - ix * hz, cz = ix * hy - iy * hx;
-    const double theta_d = std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), ix * hx + iy * hy + iz * hz);
+    const double cos_d = ix * hx + iy * hy + iz * hz;
+    const double theta_d = std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), cos_d);
 
     at.cos_i = iz;
     at.cos_o = oz;
-    at.d = bilinear(clamped(std::sqrt(theta_h / kHalfPi) * d_theta, d_theta), periodic(phi_h / kTwoPi * d_phi, d_phi),
-                    d_phi);
+    at.theta_h = theta_h;
+    at.phi_h = phi_h;
+    at.cos_d = cos_d;
+    const Lerp d_row = clamped(std::sqrt(theta_h / kHalfPi) * d_theta, d_theta);
+    const Lerp d_col = periodic(phi_h / kTwoPi * d_phi, d_phi);
+    at.d_row = d_row.i0 + d_row.t;
+    at.d_col = d_col.i0 + d_col.t;
+    at.d = bilinear(d_row, d_col, d_phi);
     const Lerp f = clamped(theta_d / kHalfPi * f_theta, f_theta);
     at.f0 = f.i0;
     at.f1 = f.i1;
     at.f_t = f.t;
-    at.g_i = g_position(ix, iy, iz, g_theta, g_phi);
-    at.g_o = g_position(ox, oy, oz, g_theta, g_phi);
-    at.cached = D.rank <= kInlineRank && G.rank <= kInlineRank;
+    at.g_i = g_position(ix, iy, iz, g_theta, g_phi, at.g_i_row, at.g_i_col);
+    at.g_o = g_position(ox, oy, oz, g_theta, g_phi, at.g_o_row, at.g_o_col);
+    at.cached = project_bases && D.rank <= kInlineRank && G.rank <= kInlineRank;
     if (at.cached) {
         project(D, at.d, at.d_basis);
         project(G, at.g_i, at.g_i_basis);

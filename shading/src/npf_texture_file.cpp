@@ -8,6 +8,7 @@
 #include <npf/core/input_file.h>
 
 #include <OpenImageIO/imageio.h>
+#include <OpenImageIO/texture.h>
 
 #include <cerrno>
 #include <cmath>
@@ -40,12 +41,100 @@ struct Part {
     ImageSpec spec;
 };
 
+// Where the parts come from: the file itself (ImageInput) or a TextureSystem's cache, so that a
+// renderer that shades through the TextureSystem opens the file once, through the same cache.
+class PartSource {
+public:
+    virtual ~PartSource() = default;
+    // Every part's header, in file order. Throws npf::Error naming the file.
+    virtual std::vector<Part> parts() = 0;
+    // All channels of a part as float, interleaved; false with `why` on failure.
+    virtual bool read(const Part& p, float* pixels, std::string& why) = 0;
+};
+
+std::string first_line(const std::string& s) {
+    const std::size_t nl = s.find('\n');
+    return nl == std::string::npos ? s : s.substr(0, nl);
+}
+
+class FileSource final : public PartSource {
+public:
+    explicit FileSource(const std::string& path) : m_path(path) {}
+
+    std::vector<Part> parts() override {
+        m_input = OIIO::ImageInput::create("openexr");
+        if (!m_input) throw Error(m_path, "this build of OpenImageIO cannot read OpenEXR: " + OIIO::geterror());
+        ImageSpec spec;
+        if (!m_input->open(m_path, spec)) {
+            throw Error(m_path, "cannot read the OpenEXR headers: " + first_line(m_input->geterror()));
+        }
+        std::vector<Part> parts;
+        for (int i = 0; m_input->seek_subimage(i, 0); ++i) {
+            Part p;
+            p.subimage = i;
+            p.spec = m_input->spec();
+            parts.push_back(std::move(p));
+        }
+        m_input->geterror();  // the failed seek past the last part is expected
+        // (OpenEXR itself guarantees that part names are unique.)
+        return parts;
+    }
+
+    bool read(const Part& p, float* pixels, std::string& why) override {
+        const bool ok = m_input->read_image(p.subimage, 0, 0, p.spec.nchannels, OIIO::TypeFloat, pixels);
+        if (!ok) why = first_line(m_input->geterror());
+        return ok;
+    }
+
+private:
+    std::string m_path;
+    std::unique_ptr<OIIO::ImageInput> m_input;
+};
+
+class TextureSystemSource final : public PartSource {
+public:
+    TextureSystemSource(const std::string& path, OIIO::TextureSystem& ts) : m_path(path), m_name(path), m_ts(ts) {}
+
+    std::vector<Part> parts() override {
+        int count = 0;
+        if (!m_ts.get_texture_info(m_name, 0, OIIO::ustring("subimages"), OIIO::TypeInt, &count) || count < 1) {
+            throw Error(m_path, "the TextureSystem cannot open it: " + first_line(m_ts.geterror()));
+        }
+        std::vector<Part> parts;
+        for (int i = 0; i < count; ++i) {
+            Part p;
+            p.subimage = i;
+            if (!m_ts.get_imagespec(m_name, i, p.spec)) {
+                throw Error(m_path, "the TextureSystem cannot read part " + std::to_string(i) + ": " +
+                                        first_line(m_ts.geterror()));
+            }
+            parts.push_back(std::move(p));
+        }
+        return parts;
+    }
+
+    bool read(const Part& p, float* pixels, std::string& why) override {
+        OIIO::TextureOpt opt;
+        opt.subimage = p.subimage;
+        const ImageSpec& s = p.spec;
+        const bool ok = m_ts.get_texels(m_name, opt, 0, s.x, s.x + s.width, s.y, s.y + s.height, s.z,
+                                        s.z + std::max(s.depth, 1), 0, s.nchannels, OIIO::TypeFloat, pixels);
+        if (!ok) why = first_line(m_ts.geterror());
+        return ok;
+    }
+
+private:
+    std::string m_path;
+    OIIO::ustring m_name;
+    OIIO::TextureSystem& m_ts;
+};
+
 class Reader {
 public:
-    explicit Reader(const std::string& path) : m_path(path) {}
+    Reader(const std::string& path, std::unique_ptr<PartSource> source) : m_path(path), m_source(std::move(source)) {}
 
     NpfModel read() {
-        open();
+        m_parts = m_source->parts();
         const Part* d = find_part(layout::kPartD);
         if (!d) throw Error(m_path, "an OpenEXR file but not an NPF factor texture (it has no part \"D\")");
         read_attributes(d->spec);
@@ -110,29 +199,7 @@ public:
     }
 
 private:
-    void open() {
-        m_input = OIIO::ImageInput::create("openexr");
-        if (!m_input) throw Error(m_path, "this build of OpenImageIO cannot read OpenEXR: " + OIIO::geterror());
-        ImageSpec spec;
-        if (!m_input->open(m_path, spec)) {
-            throw Error(m_path, "cannot read the OpenEXR headers: " + first_line(m_input->geterror()));
-        }
-        for (int i = 0; m_input->seek_subimage(i, 0); ++i) {
-            Part p;
-            p.subimage = i;
-            p.spec = m_input->spec();
-            m_parts.push_back(std::move(p));
-        }
-        m_input->geterror();  // the failed seek past the last part is expected
-        // (OpenEXR itself guarantees that part names are unique.)
-    }
-
     static std::string part_name(const Part& p) { return p.spec.get_string_attribute("oiio:subimagename"); }
-
-    static std::string first_line(const std::string& s) {
-        const std::size_t nl = s.find('\n');
-        return nl == std::string::npos ? s : s.substr(0, nl);
-    }
 
     const Part* find_part(const char* name) const {
         for (const Part& p : m_parts) {
@@ -327,8 +394,7 @@ private:
         bool ok = false;
         std::string why;
         try {
-            ok = m_input->read_image(p.subimage, 0, 0, s.nchannels, OIIO::TypeFloat, pixels.data());
-            if (!ok) why = first_line(m_input->geterror());
+            ok = m_source->read(p, pixels.data(), why);
         } catch (const std::exception& e) {
             why = e.what();
         }
@@ -369,7 +435,7 @@ private:
     }
 
     std::string m_path;
-    std::unique_ptr<OIIO::ImageInput> m_input;
+    std::unique_ptr<PartSource> m_source;
     std::vector<Part> m_parts;
     NpfModel m_model;
 };
@@ -380,7 +446,9 @@ bool has_exr_magic(const unsigned char* head, std::size_t size) {
     return head && size >= 4 && head[0] == 0x76 && head[1] == 0x2f && head[2] == 0x31 && head[3] == 0x01;
 }
 
-NpfModel read_npf_texture(const std::string& path) {
+namespace {
+
+NpfModel read_with(const std::string& path, std::unique_ptr<PartSource> source) {
     const std::uint64_t size = require_regular_file(path, "an NPF texture (.exr)");
     if (size == 0) throw Error(path, "empty file");
     {
@@ -393,12 +461,20 @@ NpfModel read_npf_texture(const std::string& path) {
         }
     }
     try {
-        return Reader(path).read();
+        return Reader(path, std::move(source)).read();
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {  // OpenEXR or allocation failures OIIO did not catch
         throw Error(path, std::string("cannot read: ") + e.what());
     }
+}
+
+}  // namespace
+
+NpfModel read_npf_texture(const std::string& path) { return read_with(path, std::make_unique<FileSource>(path)); }
+
+NpfModel read_npf_texture(const std::string& path, OIIO::TextureSystem& ts) {
+    return read_with(path, std::make_unique<TextureSystemSource>(path, ts));
 }
 
 bool is_npf_texture(const std::string& path) {

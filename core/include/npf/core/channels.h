@@ -48,6 +48,13 @@ struct ChannelQuery {
     std::size_t size() const { return index0.size(); }
 };
 
+// Where wavelength `lambda` falls on an ascending list of `n` stored wavelengths: stored
+// channels i0 and i1 and the weight t of i1. Linear between neighbours, constant outside (the
+// parameter-blend rule of the RGL readers, docs/rgl-format.md sec. 3.1, applied to wavelength).
+// No allocation, so shaders call it per sample; make_channel_query uses it too.
+void locate_wavelength(const float* grid, std::size_t n, float lambda, std::uint32_t& i0, std::uint32_t& i1,
+                       float& t);
+
 // Resolves `requested` against `stored`. Throws npf::Error naming `source` when they cannot
 // be matched (spectral wavelengths from an RGB source, RGB from a spectral one, empty lists,
 // non-finite or non-positive wavelengths).

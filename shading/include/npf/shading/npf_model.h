@@ -68,8 +68,9 @@ struct NpfModel {
     void validate(const std::string& source) const;
 
     // Ranks up to this many have their interpolated basis values cached in a Lookup; larger ranks
-    // (full-rank spectral models) are combined corner by corner, slower but the same values.
-    static constexpr int kInlineRank = 64;
+    // are combined corner by corner, slower but the same values. (The texture path of NpfClosure
+    // needs the cache, so this is also the largest rank it shades.)
+    static constexpr int kInlineRank = 256;
 
     // Everything about one direction pair that every channel shares.
     struct Lookup {
@@ -78,6 +79,11 @@ struct NpfModel {
             double weight[4] = {0, 0, 0, 0};
         };
         double cos_i = 0.0, cos_o = 0.0;
+        // The half vector's angles and cos theta_d = wi . h, for the sampler's pdf.
+        double theta_h = 0.0, phi_h = 0.0, cos_d = 1.0;
+        // Continuous positions on each table, in cells with centres at integers (rows of G may
+        // exceed g_theta - 1: extrapolation), for lookups that interpolate elsewhere (a texture).
+        double d_row = 0.0, d_col = 0.0, g_i_row = 0.0, g_i_col = 0.0, g_o_row = 0.0, g_o_col = 0.0;
         Bilinear d, g_i, g_o;
         int f0 = 0, f1 = 0;
         double f_t = 0.0;
@@ -87,7 +93,10 @@ struct NpfModel {
 
     // Fills `at` for the pair; false when either direction is at or below the horizon or not
     // finite (f_r is then 0). Directions are unit vectors in the local frame. No allocation.
-    bool prepare(const Vec3& wi, const Vec3& wo, Lookup& at) const;
+    // With project_bases false the basis values are not projected: value() then combines the
+    // tables corner by corner, unless the caller fills the cache itself and sets at.cached (the
+    // texture path does).
+    bool prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_bases = true) const;
     // f_r of stored channel c at a prepared pair.
     double value(const Lookup& at, std::size_t c) const;
     // f_r of every stored channel (channel_count() values); 0 below the horizon.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <npf/shading/npf_model.h>
+#include <npf/shading/oiio_fwd.h>
 
 #include <cstddef>
 #include <string>
@@ -13,6 +14,9 @@ namespace npf {
 // version, a missing part or channel, sizes that disagree with the attributes, a truncated or
 // corrupt file, non-finite values, or negative values where the model has none.
 NpfModel read_npf_texture(const std::string& path);
+// The same, read through a TextureSystem's cache (headers with get_imagespec, pixels with
+// get_texels), for a renderer that shades the file through that TextureSystem afterwards.
+NpfModel read_npf_texture(const std::string& path, OIIO::TextureSystem& ts);
 
 // A cheap sniff that never throws: true when `path` starts with the OpenEXR magic number and its
 // part "D" carries an integer npf:format_version (of any value; read_npf_texture judges it).

@@ -1,0 +1,54 @@
+// The paper's importance sampler (sec. 3.5): the half vector is drawn from the luminance-
+// averaged NDF, D_bar(theta_h, phi_h) = sum_c Y_c D_c (Eq. 13 with the project's CIE Y weights),
+// tabulated on D's own grid and sampled with an alias table.
+//
+// The density is piecewise constant in solid angle over D's cells: cell (k, j) spans
+//   theta_h in (pi/2) [k/n, (k+1)/n]^2 (the square-root map's cell edges),  phi_h in 2 pi [j, j+1)/m
+// and has probability proportional to D_bar(centre) cos(theta_centre) Omega_cell, so that the
+// density follows D cos(theta_h), the projected-area NDF, whose integral the fitter fixes at 1.
+// Within a cell, h is uniform in solid angle (uniform in cos theta and phi), which makes the pdf
+// exact and cheap: pmf(cell) / Omega_cell. Near the pole the cells are tiny, which is where sharp
+// peaks need them.
+#pragma once
+
+#include <npf/core/vec.h>
+#include <npf/shading/alias_table.h>
+
+#include <vector>
+
+namespace npf {
+
+struct NpfModel;
+
+class HalfVectorSampler {
+public:
+    HalfVectorSampler() = default;
+    // `d_bar` holds d_theta x d_phi non-negative values at D's cell centres ([theta][phi]).
+    // Throws npf::Error when sizes disagree or no cell has weight.
+    HalfVectorSampler(const std::vector<double>& d_bar, int d_theta, int d_phi);
+
+    // D_bar of a model: sum_c y_c max(0, D_c) over its stored channels, with y_c the CIE Y weights
+    // of its wavelengths (Rec. 709 luminance for RGB). A small share of the plain channel average
+    // (1 %) is mixed in, so that a cell where only channels outside the visible range reflect
+    // still gets samples and the estimator stays unbiased for every channel.
+    static std::vector<double> luminance_averaged_ndf(const NpfModel& m);
+
+    bool empty() const { return m_cells.empty(); }
+
+    // A half vector in the upper hemisphere from two uniform numbers in [0, 1).
+    Vec3 sample(float u1, float u2) const;
+    // Solid-angle density of `h` (unit, local frame); 0 below the horizon.
+    double pdf(const Vec3& h) const;
+    // The same from h's polar angle (radians, [0, pi/2)) and azimuth ([0, 2 pi)).
+    double pdf(double theta_h, double phi_h) const;
+
+private:
+    int m_theta = 0, m_phi = 0;
+    AliasTable m_cells;
+    // Per row: sin^2(theta/2) at the cell's lower and upper edge (1 - cos theta = 2 sin^2(theta/2)
+    // keeps the pole's tiny cells exact in double).
+    std::vector<double> m_half_sin2;  // d_theta + 1 edges
+    std::vector<double> m_inv_solid_angle;  // per row: 1 / Omega of one cell
+};
+
+}  // namespace npf

@@ -1,0 +1,110 @@
+// The NPF material as a renderer shades with it: an OSL-closure-shaped BSDF (eval / sample /
+// pdf) over a converted factor texture (docs/format.md), read either
+//  - through OpenImageIO's TextureSystem (Path::Texture): D and G are bilinear texture lookups in
+//    the host's TextureSystem (or a private one), so the host's cache owns their memory; or
+//  - from the same tables baked into arrays (Path::Memory): the fast path, the evaluation the
+//    converter itself uses (NpfModel), same results to float rounding.
+//
+// Conventions (those of OSL closures and pbrt's BSDF::f, not of npf::Brdf):
+//  - Local shading frame: z = normal, x = tangent (phi = 0), y = bitangent.
+//  - `wo` is the direction towards the viewer (the one a query is conditioned on), `wi` towards
+//    the light (the one `sample` draws). Both point away from the surface. The NPF model is
+//    reciprocal, so only the cosine factor depends on which is which.
+//  - Values are f_r(wo, wi) cos(theta_i); weights are value / pdf; pdf is per solid angle of wi.
+//  - Either direction at or below the horizon gives value 0 and pdf 0 (one-sided).
+//
+// Wavelengths: a spectral material answers any wavelengths (hero-wavelength rendering: 4 at a
+// time, any values) or its whole stored spectrum. At a requested wavelength the BRDF is linear
+// between the two neighbouring stored wavelengths and constant outside them (the rule of every
+// npf source); D and G are rebuilt from their SVD bases at those stored wavelengths (Eq. 11).
+// An RGB material shades in RGB: it always answers R, G, B, whatever the request.
+//
+// Sampling (paper sec. 3.5): the half vector is drawn from the luminance-averaged NDF through an
+// alias table (HalfVectorSampler), mixed with cosine sampling for the diffuse term in proportion
+// to the two terms' albedos; pdf() is the density of exactly that mixture.
+//
+// An NpfClosure is immutable after construction: any number of threads may shade with one at
+// once. eval, pdf and sample never throw and never allocate.
+#pragma once
+
+#include <npf/core/channels.h>
+#include <npf/core/vec.h>
+#include <npf/shading/half_vector_sampler.h>
+#include <npf/shading/npf_model.h>
+#include <npf/shading/oiio_fwd.h>
+
+#include <cstddef>
+#include <memory>
+#include <string>
+
+namespace npf {
+
+// Which values an evaluation writes.
+struct WavelengthRequest {
+    const float* nm = nullptr;  // null: every stored channel, in stored order
+    int count = 0;
+
+    static WavelengthRequest stored() { return {}; }
+    static WavelengthRequest at(const float* nm, int count) { return {nm, count}; }
+};
+
+struct ClosureSample {
+    Vec3 wi;          // towards the light
+    float pdf = 0.f;  // solid-angle density of wi
+};
+
+class NpfClosure {
+public:
+    enum class Path { Memory, Texture };
+
+    // The fast path over a model in memory. Throws npf::Error when the model is inconsistent.
+    explicit NpfClosure(NpfModel model);
+    // Opens an NPF factor texture. Path::Texture shades through `ts` (the host's TextureSystem,
+    // which must outlive the closure; a private one when null) and keeps only the per-channel
+    // values and F in memory; Path::Memory reads the whole file into arrays (`ts` unused).
+    // Throws npf::Error naming the file for anything read_npf_texture rejects, and for a rank
+    // above NpfModel::kInlineRank on the texture path.
+    explicit NpfClosure(const std::string& path, Path path_kind = Path::Memory, OIIO::TextureSystem* ts = nullptr);
+    ~NpfClosure();
+    NpfClosure(const NpfClosure&) = delete;
+    NpfClosure& operator=(const NpfClosure&) = delete;
+
+    Path path() const { return m_path; }
+    const Channels& channels() const { return m_model.channels; }
+    std::size_t channel_count() const { return m_model.channel_count(); }
+    // How many values eval/sample write for `request` (3 for RGB materials).
+    std::size_t value_count(WavelengthRequest request) const;
+    // The model: complete on the memory path; on the texture path its D and G basis tables are
+    // empty (they live in the TextureSystem), everything else is there.
+    const NpfModel& model() const { return m_model; }
+
+    // f_r cos(theta_i) into value[value_count(request)]; returns pdf(wo, wi).
+    float eval(const Vec3& wo, const Vec3& wi, WavelengthRequest request, float* value) const;
+    float pdf(const Vec3& wo, const Vec3& wi) const;
+    // Draws wi from two uniform numbers in [0, 1); writes value / pdf into weight (when not null).
+    // false (weights 0) when the draw falls below the horizon.
+    bool sample(const Vec3& wo, float u1, float u2, WavelengthRequest request, ClosureSample& s,
+                float* weight) const;
+    // The direction and its pdf alone, without evaluating the BRDF.
+    bool sample_direction(const Vec3& wo, float u1, float u2, ClosureSample& s) const;
+
+    // Probability of choosing the diffuse (cosine) strategy rather than the half-vector one.
+    double diffuse_probability() const { return m_diffuse_probability; }
+
+private:
+    class TextureTables;
+
+    void finish_construction(const std::string& source);
+    // Fills `at` (model convention: wi conditioned = our wo); false below the horizon.
+    bool lookup(const Vec3& wo, const Vec3& wi, NpfModel::Lookup& at) const;
+    void write_values(const NpfModel::Lookup& at, double cos_light, WavelengthRequest request, float* value) const;
+    float pdf_at(double theta_h, double phi_h, double cos_d, double cos_light) const;
+
+    Path m_path = Path::Memory;
+    NpfModel m_model;
+    std::unique_ptr<TextureTables> m_texture;
+    HalfVectorSampler m_sampler;
+    double m_diffuse_probability = 0.0;
+};
+
+}  // namespace npf

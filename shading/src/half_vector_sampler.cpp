@@ -1,0 +1,81 @@
+#include <npf/shading/half_vector_sampler.h>
+
+#include "luminance.h"
+
+#include <npf/core/error.h>
+#include <npf/shading/npf_model.h>
+#include <npf/shading/table_interpolation.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace npf {
+
+namespace {
+constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
+}
+
+HalfVectorSampler::HalfVectorSampler(const std::vector<double>& d_bar, int d_theta, int d_phi)
+    : m_theta(d_theta), m_phi(d_phi) {
+    if (d_theta < 1 || d_phi < 1 || d_bar.size() != std::size_t(d_theta) * std::size_t(d_phi)) {
+        throw Error("half-vector sampler", "the NDF table's size disagrees with its grid");
+    }
+    m_half_sin2.resize(std::size_t(d_theta) + 1);
+    for (int k = 0; k <= d_theta; ++k) {
+        const double u = double(k) / d_theta, theta = kHalfPi * u * u, s = std::sin(0.5 * theta);
+        m_half_sin2[std::size_t(k)] = s * s;
+    }
+    const double d_phi_width = kTwoPi / d_phi;
+    m_inv_solid_angle.resize(std::size_t(d_theta));
+    std::vector<double> weight(d_bar.size());
+    for (int k = 0; k < d_theta; ++k) {
+        const double omega = 2.0 * (m_half_sin2[std::size_t(k) + 1] - m_half_sin2[std::size_t(k)]) * d_phi_width;
+        m_inv_solid_angle[std::size_t(k)] = 1.0 / omega;
+        const double u = (k + 0.5) / d_theta, cos_centre = std::cos(kHalfPi * u * u);
+        for (int j = 0; j < d_phi; ++j) {
+            const std::size_t cell = std::size_t(k) * std::size_t(d_phi) + std::size_t(j);
+            const double v = d_bar[cell];
+            if (!std::isfinite(v) || v < 0.0) throw Error("half-vector sampler", "NDF values must be finite and >= 0");
+            weight[cell] = v * cos_centre * omega;
+        }
+    }
+    m_cells = AliasTable(weight);  // throws when every weight is 0
+}
+
+std::vector<double> HalfVectorSampler::luminance_averaged_ndf(const NpfModel& m) {
+    const std::size_t C = m.channel_count();
+    std::vector<double> y = luminance_weights_of(m.channels);
+    for (double& v : y) v = 0.99 * v + 0.01 / double(C);
+    std::vector<double> d_bar(m.D.cells, 0.0);
+    for (std::size_t cell = 0; cell < m.D.cells; ++cell) {
+        double v = 0.0;
+        for (std::size_t c = 0; c < C; ++c) v += y[c] * std::max(0.0, m.D.at(c, cell));
+        d_bar[cell] = v;
+    }
+    return d_bar;
+}
+
+Vec3 HalfVectorSampler::sample(float u1, float u2) const {
+    const AliasTable::Draw cell = m_cells.sample(u1);
+    const std::size_t k = cell.index / std::uint32_t(m_phi), j = cell.index % std::uint32_t(m_phi);
+    // Uniform in cos theta between the row's edges, uniform in phi across the column.
+    const double s0 = m_half_sin2[k], s1 = m_half_sin2[k + 1];
+    const double s = s0 + (s1 - s0) * double(cell.remainder);
+    const double cos_theta = 1.0 - 2.0 * s, sin_theta = 2.0 * std::sqrt(std::max(0.0, s * (1.0 - s)));
+    const double phi = kTwoPi * (double(j) + double(u2)) / m_phi;
+    return Vec3(float(sin_theta * std::cos(phi)), float(sin_theta * std::sin(phi)), float(cos_theta));
+}
+
+double HalfVectorSampler::pdf(const Vec3& h) const {
+    if (!(h.z > 0.f)) return 0.0;
+    return pdf(table::polar(h.x, h.y, h.z), table::azimuth(h.x, h.y));
+}
+
+double HalfVectorSampler::pdf(double theta, double phi) const {
+    if (m_cells.empty() || !(theta < kHalfPi) || !(phi >= 0.0)) return 0.0;
+    const int k = std::min(int(std::sqrt(theta / kHalfPi) * m_theta), m_theta - 1);
+    const int j = std::min(int(phi / kTwoPi * m_phi), m_phi - 1);
+    return double(m_cells.pmf(std::size_t(k) * std::size_t(m_phi) + std::size_t(j))) * m_inv_solid_angle[std::size_t(k)];
+}
+
+}  // namespace npf

@@ -1,0 +1,201 @@
+#include <npf/shading/npf_closure.h>
+
+#include "luminance.h"
+#include "texture_tables.h"
+
+#include <npf/core/cosine_sampling.h>
+#include <npf/core/error.h>
+#include <npf/shading/npf_texture_file.h>
+#include <npf/shading/table_interpolation.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace npf {
+
+namespace {
+
+constexpr double kInvPi = 1.0 / kPiD;
+
+// Finite float of a double (a grazing wo can push f_r cos / pdf past float's range).
+float finite_float(double v) {
+    constexpr double kMax = std::numeric_limits<float>::max();
+    if (!(v == v)) return 0.f;
+    return float(std::clamp(v, -kMax, kMax));
+}
+
+Vec3 reflect(const Vec3& w, const Vec3& h) {
+    const float d = 2.f * dot(w, h);
+    return {d * h.x - w.x, d * h.y - w.y, d * h.z - w.z};
+}
+
+// Directional albedo of the specular term at normal incidence, luminance weighted: a quadrature
+// over the half-vector sampler's own strata, used only to balance the two sampling strategies.
+double specular_albedo_at_normal(const NpfModel& m, const HalfVectorSampler& sampler, const std::vector<double>& y) {
+    constexpr int kStrata = 32;
+    const Vec3 normal(0.f, 0.f, 1.f);
+    double sum = 0.0;
+    NpfModel::Lookup at;
+    for (int a = 0; a < kStrata; ++a) {
+        for (int b = 0; b < kStrata; ++b) {
+            const Vec3 h = sampler.sample((a + 0.5f) / kStrata, (b + 0.5f) / kStrata);
+            const Vec3 wi = reflect(normal, h);
+            const double pdf = sampler.pdf(h) / (4.0 * std::max(double(h.z), 1e-12));
+            if (!(wi.z > 0.f) || !(pdf > 0.0) || !m.prepare(normal, wi, at)) continue;
+            double f = 0.0;
+            for (std::size_t c = 0; c < y.size(); ++c) f += y[c] * (m.value(at, c) - m.rho_d[c]);
+            sum += f * wi.z / pdf;
+        }
+    }
+    return std::max(0.0, sum / (kStrata * kStrata));
+}
+
+}  // namespace
+
+NpfClosure::NpfClosure(NpfModel model) : m_path(Path::Memory), m_model(std::move(model)) {
+    m_model.validate("NPF model");
+    finish_construction("NPF model");
+}
+
+NpfClosure::NpfClosure(const std::string& path, Path path_kind, OIIO::TextureSystem* ts) : m_path(path_kind) {
+    if (path_kind == Path::Memory) {
+        m_model = read_npf_texture(path);
+    } else {
+        m_texture = std::make_unique<TextureTables>(path, ts);
+        m_model = m_texture->read_model();
+    }
+    finish_construction(path);
+    if (m_texture) {
+        // The bases now live in the TextureSystem's cache only.
+        m_model.D.basis = std::vector<float>();
+        m_model.G.basis = std::vector<float>();
+    }
+}
+
+NpfClosure::~NpfClosure() = default;
+
+void NpfClosure::finish_construction(const std::string& source) {
+    try {
+        m_sampler = HalfVectorSampler(HalfVectorSampler::luminance_averaged_ndf(m_model), m_model.d_theta,
+                                      m_model.d_phi);
+    } catch (const Error&) {
+        // No cell of D has weight (a purely diffuse material): only cosine sampling remains.
+        m_sampler = HalfVectorSampler();
+    }
+    const std::vector<double> y = luminance_weights_of(m_model.channels);
+    double diffuse = 0.0;
+    for (std::size_t c = 0; c < y.size(); ++c) diffuse += y[c] * m_model.rho_d[c] * kPiD;
+    const double specular = m_sampler.empty() ? 0.0 : specular_albedo_at_normal(m_model, m_sampler, y);
+    if (specular <= 0.0 || m_sampler.empty()) {
+        m_diffuse_probability = 1.0;
+    } else if (diffuse <= 0.0) {
+        m_diffuse_probability = 0.0;
+    } else {
+        // Neither strategy may starve: each keeps at least 5 % of the samples.
+        m_diffuse_probability = std::clamp(diffuse / (diffuse + specular), 0.05, 0.95);
+    }
+    if (m_texture && m_model.D.rank > NpfModel::kInlineRank) {
+        throw Error(source, "the texture path shades ranks up to " + std::to_string(NpfModel::kInlineRank) +
+                                "; this file's D has rank " + std::to_string(m_model.D.rank));
+    }
+    if (m_texture && m_model.G.rank > NpfModel::kInlineRank) {
+        throw Error(source, "the texture path shades ranks up to " + std::to_string(NpfModel::kInlineRank) +
+                                "; this file's G has rank " + std::to_string(m_model.G.rank));
+    }
+}
+
+std::size_t NpfClosure::value_count(WavelengthRequest request) const {
+    if (m_model.channels.is_rgb() || !request.nm) return m_model.channel_count();
+    return std::size_t(std::max(request.count, 0));
+}
+
+bool NpfClosure::lookup(const Vec3& wo, const Vec3& wi, NpfModel::Lookup& at) const {
+    // The model conditions on its `wi`, the viewer side: our wo.
+    if (!m_texture) return m_model.prepare(wo, wi, at);
+    if (!m_model.prepare(wo, wi, at, /*project_bases=*/false)) return false;
+    return m_texture->fill(m_model, at);
+}
+
+void NpfClosure::write_values(const NpfModel::Lookup& at, double cos_light, WavelengthRequest request,
+                              float* value) const {
+    const std::size_t C = m_model.channel_count();
+    if (m_model.channels.is_rgb() || !request.nm) {
+        for (std::size_t c = 0; c < C; ++c) value[c] = finite_float(std::max(0.0, m_model.value(at, c)) * cos_light);
+        return;
+    }
+    const std::vector<float>& grid = m_model.channels.wavelengths();
+    for (int k = 0; k < request.count; ++k) {
+        std::uint32_t i0, i1;
+        float t;
+        locate_wavelength(grid.data(), grid.size(), request.nm[k], i0, i1, t);
+        const double a = m_model.value(at, i0);
+        const double v = t == 0.f ? a : (1.0 - t) * a + t * m_model.value(at, i1);
+        value[k] = finite_float(std::max(0.0, v) * cos_light);
+    }
+}
+
+float NpfClosure::pdf_at(double theta_h, double phi_h, double cos_d, double cos_light) const {
+    double p = m_diffuse_probability * cos_light * kInvPi;
+    if (m_diffuse_probability < 1.0 && cos_d > 0.0) {
+        p += (1.0 - m_diffuse_probability) * m_sampler.pdf(theta_h, phi_h) / (4.0 * cos_d);
+    }
+    return finite_float(p);
+}
+
+float NpfClosure::eval(const Vec3& wo, const Vec3& wi, WavelengthRequest request, float* value) const {
+    NpfModel::Lookup at;
+    if (!lookup(wo, wi, at)) {
+        std::fill(value, value + value_count(request), 0.f);
+        return 0.f;
+    }
+    write_values(at, at.cos_o, request, value);
+    return pdf_at(at.theta_h, at.phi_h, at.cos_d, at.cos_o);
+}
+
+float NpfClosure::pdf(const Vec3& wo, const Vec3& wi) const {
+    // Only the half vector is needed, computed exactly as NpfModel::prepare computes it so that
+    // eval's pdf and this one agree to the bit.
+    if (!(wo.z > 0.f) || !(wi.z > 0.f) || !std::isfinite(wo.x + wo.y + wi.x + wi.y)) return 0.f;
+    double hx = double(wo.x) + double(wi.x), hy = double(wo.y) + double(wi.y), hz = double(wo.z) + double(wi.z);
+    const double len = std::sqrt(hx * hx + hy * hy + hz * hz);
+    hx /= len;
+    hy /= len;
+    hz /= len;
+    const double cos_d = double(wo.x) * hx + double(wo.y) * hy + double(wo.z) * hz;
+    return pdf_at(table::polar(hx, hy, hz), table::azimuth(hx, hy), cos_d, wi.z);
+}
+
+bool NpfClosure::sample_direction(const Vec3& wo, float u1, float u2, ClosureSample& s) const {
+    if (!(wo.z > 0.f)) return false;
+    const double pd = m_diffuse_probability;
+    if (u2 < pd) {
+        // Stretch u2 back to [0, 1) for the strategy's own use.
+        const float v = std::min(float(u2 / pd), 0x1.fffffep-1f);
+        s.wi = cosine_hemisphere_direction(Vec2{u1, v});
+    } else {
+        const float v = std::min(float((u2 - pd) / (1.0 - pd)), 0x1.fffffep-1f);
+        s.wi = reflect(wo, m_sampler.sample(u1, v));
+    }
+    if (!(s.wi.z > 0.f)) return false;
+    s.pdf = pdf(wo, s.wi);
+    return s.pdf > 0.f;
+}
+
+bool NpfClosure::sample(const Vec3& wo, float u1, float u2, WavelengthRequest request, ClosureSample& s,
+                        float* weight) const {
+    const std::size_t n = value_count(request);
+    if (weight) std::fill(weight, weight + n, 0.f);
+    if (!sample_direction(wo, u1, u2, s)) return false;
+    if (!weight) return true;
+    NpfModel::Lookup at;
+    if (!lookup(wo, s.wi, at)) return false;
+    write_values(at, at.cos_o, request, weight);
+    const double inv_pdf = 1.0 / double(s.pdf);
+    for (std::size_t k = 0; k < n; ++k) weight[k] = finite_float(weight[k] * inv_pdf);
+    return true;
+}
+
+}  // namespace npf
