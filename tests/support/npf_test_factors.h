@@ -19,4 +19,19 @@ struct TestFactorSpec {
 
 NpfFactors make_test_factors(const TestFactorSpec& spec);
 
+// Factors of an analytic microfacet material, tabulated as the fitter would store them: GGX D
+// (alpha_x along the tangent, alpha_y along the bitangent; normalised, integral D cos = 1),
+// Schlick F (F0 = 1 in the gauge; rho_s carries the colour), Smith G1 of the same GGX, and a
+// Lambertian rho_d. Spectral materials get roughness that varies gently with wavelength, so
+// that D and G differ per channel as measured ones do.
+struct MicrofacetSpec {
+    double alpha_x = 0.3, alpha_y = 0.3;
+    double rho_d = 0.1, rho_s = 1.0;
+    std::size_t channels = 3;  // 3 with spectral = false: RGB
+    bool spectral = false;     // wavelengths spread over 400..700 nm
+    int d_theta = 32, d_phi = 1, f_theta = 32, g_theta = 32, g_phi = 1;
+};
+
+NpfFactors make_microfacet_factors(const MicrofacetSpec& spec);
+
 }  // namespace npf::testing

@@ -1,0 +1,104 @@
+// read_scene_image and write_display_png: OpenImageIO on either side of a DisplayTransform.
+#include <npf/color/display_image.h>
+#include <npf/core/atomic_file.h>
+#include <npf/core/error.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+
+namespace npf::color {
+
+namespace {
+
+std::string first_line(const std::string& s) {
+    const std::size_t nl = s.find('\n');
+    return nl == std::string::npos ? s : s.substr(0, nl);
+}
+
+std::uint8_t to_8bit(float v) {
+    if (!(v > 0.0f)) return 0;  // also NaN
+    if (v >= 1.0f) return 255;
+    return static_cast<std::uint8_t>(std::lround(v * 255.0f));
+}
+
+}  // namespace
+
+FloatImage read_scene_image(const std::string& path) {
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    if (!in) throw Error(path, "cannot read the image: " + first_line(OIIO::geterror()));
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.nchannels < 3)
+        throw Error(path, "has " + std::to_string(spec.nchannels) +
+                              " channel(s); a scene image needs three (RGB or XYZ)");
+    if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1)
+        throw Error(path, "not a 2D image");
+    const std::size_t width = static_cast<std::size_t>(spec.width), height = static_cast<std::size_t>(spec.height);
+    const std::size_t all = static_cast<std::size_t>(spec.nchannels);
+    std::vector<float> file_pixels(width * height * all);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, file_pixels.data()))
+        throw Error(path, "cannot read the pixels: " + first_line(in->geterror()));
+
+    FloatImage image;
+    image.width = width;
+    image.height = height;
+    const bool alpha = spec.alpha_channel >= 3;
+    image.channels = alpha ? 4 : 3;
+    image.pixels.resize(width * height * static_cast<std::size_t>(image.channels));
+    for (std::size_t p = 0; p < width * height; ++p) {
+        const float* src = &file_pixels[p * all];
+        float* dst = &image.pixels[p * static_cast<std::size_t>(image.channels)];
+        dst[0] = src[0], dst[1] = src[1], dst[2] = src[2];
+        if (alpha) dst[3] = src[spec.alpha_channel];
+    }
+    return image;
+}
+
+void write_display_png(const std::string& path, const FloatImage& image, const DisplayTransform& transform) {
+    const int nc = image.channels;
+    if (nc != 3 && nc != 4)
+        throw Error(path, "a display image has 3 or 4 channels, not " + std::to_string(nc));
+    const std::size_t pixel_count = image.width * image.height;
+    if (image.width == 0 || image.height == 0 || image.pixels.size() != pixel_count * static_cast<std::size_t>(nc))
+        throw Error(path, "image size and pixel count disagree (or the image is empty)");
+    constexpr std::size_t kMaxSide = 1u << 20;  // PNG and OIIO take int sizes; no real image is larger
+    if (image.width > kMaxSide || image.height > kMaxSide) throw Error(path, "image too large for PNG");
+
+    std::vector<float> display(image.pixels);
+    if (nc == 4) {
+        // Premultiplied in, straight out: the display transform is not linear, so unpremultiply
+        // first. Pixels with no coverage keep their (zero) colour.
+        for (std::size_t p = 0; p < pixel_count; ++p) {
+            float* px = &display[p * 4];
+            if (px[3] > 0.0f)
+                for (int c = 0; c < 3; ++c) px[c] /= px[3];
+        }
+    }
+    transform.apply(display.data(), image.width, image.height, nc);
+    std::vector<std::uint8_t> bytes(display.size());
+    std::transform(display.begin(), display.end(), bytes.begin(), to_8bit);
+
+    AtomicOutput atomic(path);
+    // The temporary name does not end in .png, so the format is named explicitly.
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
+    if (!out) throw Error(path, "this build of OpenImageIO cannot write PNG: " + first_line(OIIO::geterror()));
+    OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), nc, OIIO::TypeUInt8);
+    if (nc == 4) {
+        spec.alpha_channel = 3;
+        spec.attribute("oiio:UnassociatedAlpha", 1);  // already straight: store as is
+    }
+    spec.attribute("Software", "npf");
+    spec.attribute("npf:display", transform.display() + " / " + transform.view());
+    if (!out->open(atomic.temporary_path(), spec))
+        throw Error(path, "cannot create output: " + first_line(out->geterror()));
+    if (!out->write_image(OIIO::TypeUInt8, bytes.data()))
+        throw Error(path, "cannot write the pixels: " + first_line(out->geterror()));
+    if (!out->close()) throw Error(path, "cannot finish output: " + first_line(out->geterror()));
+    out.reset();
+    atomic.commit();
+}
+
+}  // namespace npf::color
