@@ -165,7 +165,8 @@ float NpfClosure::pdf(const Vec3& wo, const Vec3& wi) const {
     hy /= len;
     hz /= len;
     const double cos_d = double(wo.x) * hx + double(wo.y) * hy + double(wo.z) * hz;
-    return pdf_at(table::polar(hx, hy, hz), table::azimuth(hx, hy), cos_d, wi.z);
+    const double phi_h = m_model.d_phi == 1 ? 0.0 : table::azimuth(hx, hy);
+    return pdf_at(table::polar(hx, hy, hz), phi_h, cos_d, wi.z);
 }
 
 bool NpfClosure::sample_direction(const Vec3& wo, float u1, float u2, ClosureSample& s) const {

@@ -38,7 +38,8 @@ NpfModel::Lookup::Bilinear bilinear(const Lerp& row, const Lerp& col, int cols) 
 NpfModel::Lookup::Bilinear g_position(double x, double y, double z, int g_theta, int g_phi, double& row,
                                       double& col) {
     const Lerp r = extrapolated(polar(x, y, z) / kHalfPi * g_theta, g_theta);
-    const Lerp c = periodic(azimuth(x, y) / kTwoPi * g_phi, g_phi);
+    // An isotropic table has one column: no azimuth to compute.
+    const Lerp c = g_phi == 1 ? Lerp{} : periodic(azimuth(x, y) / kTwoPi * g_phi, g_phi);
     row = r.i0 + r.t;
     col = c.i0 + c.t;
     return bilinear(r, c, g_phi);
@@ -174,11 +175,11 @@ bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_
     hx /= len;
     hy /= len;
     hz /= len;
-    const double theta_h = polar(hx, hy, hz), phi_h = azimuth(hx, hy);
+    const double theta_h = polar(hx, hy, hz), phi_h = d_phi == 1 ? 0.0 : azimuth(hx, hy);
     // theta_d is the angle between wi and h: atan2(|wi x h|, wi . h), accurate at both ends.
     const double cx = iy * hz - iz * hy, cy = iz * hx - ix * hz, cz = ix * hy - iy * hx;
     const double cos_d = ix * hx + iy * hy + iz * hz;
-    const double theta_d = std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), cos_d);
+    const double theta_d = table::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), cos_d);
 
     at.cos_i = iz;
     at.cos_o = oz;

@@ -6,6 +6,8 @@
 #include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
+#include <npf/shading/npf_brdf.h>
+#include <npf/shading/npf_texture_file.h>
 
 #include <cerrno>
 #include <cmath>
@@ -13,6 +15,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 namespace npf::cli {
@@ -25,11 +28,13 @@ const std::vector<FlagSpec> kFlags = {
     {"--wavelengths", true, "spectral files: evaluate at '450,550,650' or 'start:end:count' (nm)"},
     {"--raw", false, "keep negative values (out-of-gamut RGB) instead of clamping them to 0"},
     {"--pdf", false, "append a column 'pdf': the density (1/sr) with which the material samples wo given wi"},
+    {"--path", true, "NPF textures (.exr): 'memory' (tables in arrays, the default) or 'texture' (lookups through "
+                     "OpenImageIO's TextureSystem); a comment line names the path used"},
     {"--help", false, "show this help"},
 };
 
 const char* kHelp =
-    "usage: npf eval FILE [--dirs PATH|-] [--cos] [--wavelengths LIST] [--raw] [--pdf]\n\n"
+    "usage: npf eval FILE [--dirs PATH|-] [--cos] [--wavelengths LIST] [--raw] [--pdf] [--path memory|texture]\n\n"
     "Directions are in the local frame (z the normal, x the tangent), both pointing away from the\n"
     "surface, and are normalised on reading; lines starting with '#' and blank lines are skipped.\n"
     "Output: a header '# ' with the channel names (R G B) or wavelengths (nm), then one line per\n"
@@ -65,7 +70,23 @@ int run_eval(const std::vector<std::string>& args) {
         return cl.has("--help") ? 0 : 2;
     }
     const std::string path = cl.positional()[0];
-    std::unique_ptr<Brdf> brdf = open_brdf(path);
+    std::unique_ptr<Brdf> brdf;
+    std::string path_line;
+    if (cl.has("--path")) {
+        const std::string kind = cl.value("--path");
+        if (kind != "memory" && kind != "texture") {
+            throw Error("--path", "expected 'memory' or 'texture', got '" + kind + "'");
+        }
+        if (!is_npf_texture(path)) {
+            require_regular_file(path, "a material file");
+            throw Error(path, "--path applies to NPF factor textures (.exr) only");
+        }
+        const bool texture = kind == "texture";
+        brdf = std::make_unique<NpfBrdf>(path, texture ? NpfClosure::Path::Texture : NpfClosure::Path::Memory);
+        path_line = texture ? "# path texture (OpenImageIO TextureSystem)\n" : "# path memory\n";
+    } else {
+        brdf = open_brdf(path);
+    }
 
     Channels channels = brdf->info().channels;
     if (cl.has("--wavelengths")) {
@@ -87,7 +108,7 @@ int run_eval(const std::vector<std::string>& args) {
     std::istream& in = dirs == "-" ? std::cin : file;
     const std::string dirs_name = dirs == "-" ? "<stdin>" : dirs;
 
-    std::string out = "# " + channels.describe() + (with_pdf ? " pdf" : "") + "\n";
+    std::string out = path_line + "# " + channels.describe() + (with_pdf ? " pdf" : "") + "\n";
     std::vector<float> values(query.size());
     std::string line;
     char buf[64];

@@ -11,5 +11,7 @@ int run_info(const std::vector<std::string>& args);
 int run_eval(const std::vector<std::string>& args);
 int run_synth(const std::vector<std::string>& args);
 int run_convert(const std::vector<std::string>& args);
+int run_bench(const std::vector<std::string>& args);
+int run_display(const std::vector<std::string>& args);
 
 }  // namespace npf::cli

@@ -79,7 +79,8 @@ struct NpfModel {
             double weight[4] = {0, 0, 0, 0};
         };
         double cos_i = 0.0, cos_o = 0.0;
-        // The half vector's angles and cos theta_d = wi . h, for the sampler's pdf.
+        // The half vector's angles (phi_h is 0 for an isotropic D) and cos theta_d = wi . h, for
+        // the sampler's pdf.
         double theta_h = 0.0, phi_h = 0.0, cos_d = 1.0;
         // Continuous positions on each table, in cells with centres at integers (rows of G may
         // exceed g_theta - 1: extrapolation), for lookups that interpolate elsewhere (a texture).

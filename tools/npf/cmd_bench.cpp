@@ -1,0 +1,291 @@
+// npf bench MATERIAL.exr: what shading with a converted material costs, per call, on this
+// machine: the closure's eval on both paths (4 hero wavelengths and the full stored spectrum),
+// its importance sampling and pdf, and, with --against, the raw evaluation of the source file
+// (the measured reader) at the same wavelengths and directions, side by side.
+#include "command_line.h"
+#include "commands.h"
+
+#include <npf/converter/open_brdf.h>
+#include <npf/core/error.h>
+#include <npf/core/input_file.h>
+#include <npf/shading/npf_closure.h>
+#include <npf/shading/npf_texture_file.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace npf::cli {
+
+namespace {
+
+const std::vector<FlagSpec> kFlags = {
+    {"--against", true, "also time the raw evaluation of this material file (e.g. the .bsdf it was converted from)"},
+    {"--json", false, "print one JSON object instead of the table"},
+    {"--seconds", true, "time each measurement for at least this long (default 0.5)"},
+    {"--threads", true, "also measure the memory-path eval throughput with this many threads (default: the cores)"},
+    {"--help", false, "show this help"},
+};
+
+const char* kHelp =
+    "usage: npf bench MATERIAL.exr [--against RAW] [--json] [--seconds S] [--threads N]\n\n"
+    "Times, per call, on random directions over the hemisphere:\n"
+    "  eval_memory_ns        closure eval, in-memory tables, 4 hero wavelengths (RGB: R, G, B)\n"
+    "  eval_memory_full_ns   the same for every stored channel\n"
+    "  eval_texture_ns       closure eval through OpenImageIO's TextureSystem, 4 hero wavelengths\n"
+    "  eval_texture_full_ns  the same for every stored channel\n"
+    "  sample_ns             importance sample: a direction and its pdf (paper sec. 3.5)\n"
+    "  sample_weighted_ns    sample plus the weight f cos / pdf at 4 hero wavelengths\n"
+    "  pdf_ns                pdf of a given pair\n"
+    "  eval_raw_ns           --against: the source file's own evaluation, same wavelengths\n"
+    "Single-threaded; the throughput line runs the memory eval on several threads at once.\n\n";
+
+constexpr int kPairs = 4096;    // direction pairs, cycled
+constexpr int kHeroSets = 64;   // wavelength quadruples, cycled
+
+struct Inputs {
+    std::vector<Vec3> wo, wi;
+    std::vector<float> u1, u2;
+    std::vector<std::array<float, 4>> hero;  // empty for RGB materials
+};
+
+Inputs make_inputs(const Channels& channels) {
+    Inputs in;
+    std::mt19937 rng(1234);
+    std::uniform_real_distribution<float> uni(0.f, 1.f);
+    auto hemisphere = [&] {
+        const float z = std::max(uni(rng), 1e-3f), phi = 2.f * kPi * uni(rng), r = std::sqrt(1.f - z * z);
+        return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+    };
+    for (int i = 0; i < kPairs; ++i) {
+        in.wo.push_back(hemisphere());
+        in.wi.push_back(hemisphere());
+        in.u1.push_back(uni(rng));
+        in.u2.push_back(uni(rng));
+    }
+    if (!channels.is_rgb()) {
+        // Hero wavelengths as a spectral renderer draws them: one at random, three more evenly
+        // rotated through the stored range.
+        const float lo = channels.wavelengths().front(), hi = channels.wavelengths().back(), span = hi - lo;
+        for (int i = 0; i < kHeroSets; ++i) {
+            const float first = uni(rng);
+            std::array<float, 4> h;
+            for (int k = 0; k < 4; ++k) h[std::size_t(k)] = lo + span * std::fmod(first + 0.25f * float(k), 1.f);
+            in.hero.push_back(h);
+        }
+    }
+    return in;
+}
+
+struct Timing {
+    double ns_per_call = 0.0;
+    std::uint64_t calls = 0;
+    double seconds = 0.0;
+};
+
+// Runs `batch` (which makes kPairs calls) until at least `seconds` have passed.
+Timing time_calls(double seconds, const std::function<double()>& batch) {
+    using clock = std::chrono::steady_clock;
+    volatile double sink = batch();  // warm caches (and the TextureSystem's tiles)
+    Timing t;
+    const auto start = clock::now();
+    double elapsed = 0.0;
+    do {
+        sink = sink + batch();
+        t.calls += kPairs;
+        elapsed = std::chrono::duration<double>(clock::now() - start).count();
+    } while (elapsed < seconds);
+    t.seconds = elapsed;
+    t.ns_per_call = 1e9 * elapsed / double(t.calls);
+    return t;
+}
+
+std::string json_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
+}  // namespace
+
+int run_bench(const std::vector<std::string>& args) {
+    CommandLine cl("bench", args, kFlags);
+    if (cl.has("--help") || cl.positional().size() != 1) {
+        std::printf("%s%s", kHelp, usage_lines(kFlags).c_str());
+        return cl.has("--help") ? 0 : 2;
+    }
+    const std::string path = cl.positional()[0];
+    require_regular_file(path, "an NPF texture (.exr)");
+    if (!is_npf_texture(path)) throw Error(path, "not an NPF factor texture (convert it first: npf convert)");
+    double seconds = 0.5;
+    if (cl.has("--seconds")) {
+        const std::string v = cl.value("--seconds");
+        char* end = nullptr;
+        seconds = std::strtod(v.c_str(), &end);
+        if (end == v.c_str() || *end || !(seconds > 0.0) || seconds > 600.0) {
+            throw Error("--seconds", "expected a number of seconds in (0, 600], got '" + v + "'");
+        }
+    }
+    int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    if (cl.has("--threads")) {
+        const std::string v = cl.value("--threads");
+        char* end = nullptr;
+        const long n = std::strtol(v.c_str(), &end, 10);
+        if (end == v.c_str() || *end || n < 1 || n > 256) throw Error("--threads", "expected 1..256, got '" + v + "'");
+        threads = int(n);
+    }
+    const bool json = cl.has("--json");
+
+    const NpfClosure memory(path, NpfClosure::Path::Memory);
+    const NpfClosure texture(path, NpfClosure::Path::Texture);
+    std::unique_ptr<Brdf> raw;
+    std::vector<ChannelQuery> raw_queries;
+    const Channels& channels = memory.channels();
+    const Inputs in = make_inputs(channels);
+    if (cl.has("--against")) {
+        const std::string raw_path = cl.value("--against");
+        raw = open_brdf(raw_path);
+        if (raw->info().channels.is_rgb() != channels.is_rgb()) {
+            throw Error(raw_path, std::string("holds ") + (raw->info().channels.is_rgb() ? "RGB" : "spectral") +
+                                      " data, the NPF texture " + (channels.is_rgb() ? "RGB" : "spectral") +
+                                      " data: they are not the same material");
+        }
+        if (channels.is_rgb()) {
+            raw_queries.push_back(raw->query(Channels::rgb()));
+        } else {
+            for (const auto& h : in.hero) raw_queries.push_back(raw->query(Channels::spectral({h.begin(), h.end()})));
+        }
+    }
+
+    auto hero_of = [&](int i) {
+        return channels.is_rgb() ? WavelengthRequest::stored()
+                                 : WavelengthRequest::at(in.hero[std::size_t(i % kHeroSets)].data(), 4);
+    };
+    auto eval_batch = [&](const NpfClosure& c, bool full) {
+        return [&c, full, &in, &hero_of] {
+            std::vector<float> v(std::max<std::size_t>(c.channel_count(), 4));
+            double sum = 0.0;
+            for (int i = 0; i < kPairs; ++i) {
+                const WavelengthRequest r = full ? WavelengthRequest::stored() : hero_of(i);
+                sum += c.eval(in.wo[std::size_t(i)], in.wi[std::size_t(i)], r, v.data()) + v[0];
+            }
+            return sum;
+        };
+    };
+
+    struct Row {
+        const char* key;
+        const char* label;
+        Timing t;
+    };
+    std::vector<Row> rows;
+    rows.push_back({"eval_memory_ns", "eval, memory, 4 hero wavelengths", time_calls(seconds, eval_batch(memory, false))});
+    rows.push_back({"eval_memory_full_ns", "eval, memory, every stored channel", time_calls(seconds, eval_batch(memory, true))});
+    rows.push_back({"eval_texture_ns", "eval, TextureSystem, 4 hero wavelengths", time_calls(seconds, eval_batch(texture, false))});
+    rows.push_back({"eval_texture_full_ns", "eval, TextureSystem, every stored channel", time_calls(seconds, eval_batch(texture, true))});
+    rows.push_back({"sample_ns", "sample: direction and pdf", time_calls(seconds, [&] {
+                        double sum = 0.0;
+                        ClosureSample s;
+                        for (int i = 0; i < kPairs; ++i) {
+                            const std::size_t k = std::size_t(i);
+                            if (memory.sample_direction(in.wo[k], in.u1[k], in.u2[k], s)) sum += s.pdf;
+                        }
+                        return sum;
+                    })});
+    rows.push_back({"sample_weighted_ns", "sample with weights, 4 hero wavelengths", time_calls(seconds, [&] {
+                        double sum = 0.0;
+                        ClosureSample s;
+                        float w[256];
+                        for (int i = 0; i < kPairs; ++i) {
+                            const std::size_t k = std::size_t(i);
+                            if (memory.sample(in.wo[k], in.u1[k], in.u2[k], hero_of(i), s, w)) sum += w[0];
+                        }
+                        return sum;
+                    })});
+    rows.push_back({"pdf_ns", "pdf", time_calls(seconds, [&] {
+                        double sum = 0.0;
+                        for (int i = 0; i < kPairs; ++i) sum += memory.pdf(in.wo[std::size_t(i)], in.wi[std::size_t(i)]);
+                        return sum;
+                    })});
+    if (raw) {
+        rows.push_back({"eval_raw_ns", "raw source evaluation, same wavelengths", time_calls(seconds, [&] {
+                            double sum = 0.0;
+                            float v[4];
+                            for (int i = 0; i < kPairs; ++i) {
+                                const std::size_t k = std::size_t(i);
+                                // npf::Brdf conditions on its wi: the closure's wo.
+                                raw->eval_cos(in.wo[k], in.wi[k], raw_queries[k % raw_queries.size()], v);
+                                sum += v[0];
+                            }
+                            return sum;
+                        })});
+    }
+
+    // Throughput: the memory eval on `threads` threads at once.
+    std::atomic<std::uint64_t> total_calls{0};
+    const auto start = std::chrono::steady_clock::now();
+    {
+        std::vector<std::thread> pool;
+        const auto batch = eval_batch(memory, false);
+        for (int t = 0; t < threads; ++t) {
+            pool.emplace_back([&] {
+                volatile double sink = 0.0;
+                const auto t0 = std::chrono::steady_clock::now();
+                std::uint64_t calls = 0;
+                do {
+                    sink = sink + batch();
+                    calls += kPairs;
+                } while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < seconds);
+                total_calls += calls;
+            });
+        }
+        for (std::thread& t : pool) t.join();
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double throughput = double(total_calls.load()) / wall;
+
+    auto find = [&](const char* key) -> const Timing* {
+        for (const Row& r : rows) {
+            if (std::string(r.key) == key) return &r.t;
+        }
+        return nullptr;
+    };
+    const Timing* raw_t = find("eval_raw_ns");
+    const double speedup = raw_t ? raw_t->ns_per_call / find("eval_memory_ns")->ns_per_call : 0.0;
+    const NpfModel& m = memory.model();
+
+    if (json) {
+        std::string out = "{\"material\": \"" + path + "\", \"channels\": " + std::to_string(m.channel_count()) +
+                          ", \"rgb\": " + (channels.is_rgb() ? "true" : "false") + ", \"d_rank\": " +
+                          std::to_string(m.D.rank) + ", \"g_rank\": " + std::to_string(m.G.rank);
+        for (const Row& r : rows) out += std::string(", \"") + r.key + "\": " + json_number(r.t.ns_per_call);
+        if (!raw) out += ", \"eval_raw_ns\": null";
+        out += ", \"speedup_memory_vs_raw\": " + (raw ? json_number(speedup) : std::string("null"));
+        out += ", \"threads\": " + std::to_string(threads) + ", \"eval_memory_calls_per_s_threaded\": " +
+               json_number(throughput) + "}\n";
+        std::fputs(out.c_str(), stdout);
+        return 0;
+    }
+    std::printf("npf bench %s: %s, %zu channels, D %d x %d rank %d, G %d x %d rank %d%s\n", path.c_str(),
+                channels.is_rgb() ? "RGB" : "spectral", m.channel_count(), m.d_theta, m.d_phi, m.D.rank, m.g_theta,
+                m.g_phi, m.G.rank, raw ? (", against " + cl.value("--against")).c_str() : "");
+    std::printf("  %-44s %10s %12s %8s\n", "measurement (one thread)", "ns/call", "calls", "seconds");
+    for (const Row& r : rows) {
+        std::printf("  %-44s %10.1f %12llu %8.2f\n", r.label, r.t.ns_per_call, (unsigned long long)r.t.calls,
+                    r.t.seconds);
+    }
+    if (raw) std::printf("  memory eval is %.1f times faster than the raw evaluation\n", speedup);
+    std::printf("  memory eval on %d threads: %.3g calls/s (%.1f ns/call per thread)\n", threads, throughput,
+                1e9 * threads / throughput);
+    return 0;
+}
+
+}  // namespace npf::cli
