@@ -68,12 +68,13 @@ Vec3 HalfVectorSampler::sample(float u1, float u2) const {
 
 double HalfVectorSampler::pdf(const Vec3& h) const {
     if (!(h.z > 0.f)) return 0.0;
-    return pdf(table::polar(h.x, h.y, h.z), table::azimuth(h.x, h.y));
+    const double theta = table::polar(h.x, h.y, h.z);
+    return pdf(theta, std::sqrt(theta / kHalfPi), table::azimuth(h.x, h.y));
 }
 
-double HalfVectorSampler::pdf(double theta, double phi) const {
+double HalfVectorSampler::pdf(double theta, double u, double phi) const {
     if (m_cells.empty() || !(theta < kHalfPi) || !(phi >= 0.0)) return 0.0;
-    const int k = std::min(int(std::sqrt(theta / kHalfPi) * m_theta), m_theta - 1);
+    const int k = std::min(int(u * m_theta), m_theta - 1);
     const int j = std::min(int(phi / kTwoPi * m_phi), m_phi - 1);
     return double(m_cells.pmf(std::size_t(k) * std::size_t(m_phi) + std::size_t(j))) * m_inv_solid_angle[std::size_t(k)];
 }

@@ -137,10 +137,10 @@ void NpfClosure::write_values(const NpfModel::Lookup& at, double cos_light, Wave
     }
 }
 
-float NpfClosure::pdf_at(double theta_h, double phi_h, double cos_d, double cos_light) const {
+float NpfClosure::pdf_at(double theta_h, double u_h, double phi_h, double cos_d, double cos_light) const {
     double p = m_diffuse_probability * cos_light * kInvPi;
     if (m_diffuse_probability < 1.0 && cos_d > 0.0) {
-        p += (1.0 - m_diffuse_probability) * m_sampler.pdf(theta_h, phi_h) / (4.0 * cos_d);
+        p += (1.0 - m_diffuse_probability) * m_sampler.pdf(theta_h, u_h, phi_h) / (4.0 * cos_d);
     }
     return finite_float(p);
 }
@@ -152,7 +152,7 @@ float NpfClosure::eval(const Vec3& wo, const Vec3& wi, WavelengthRequest request
         return 0.f;
     }
     write_values(at, at.cos_o, request, value);
-    return pdf_at(at.theta_h, at.phi_h, at.cos_d, at.cos_o);
+    return pdf_at(at.theta_h, at.u_h, at.phi_h, at.cos_d, at.cos_o);
 }
 
 float NpfClosure::pdf(const Vec3& wo, const Vec3& wi) const {
@@ -166,7 +166,8 @@ float NpfClosure::pdf(const Vec3& wo, const Vec3& wi) const {
     hz /= len;
     const double cos_d = double(wo.x) * hx + double(wo.y) * hy + double(wo.z) * hz;
     const double phi_h = m_model.d_phi == 1 ? 0.0 : table::azimuth(hx, hy);
-    return pdf_at(table::polar(hx, hy, hz), phi_h, cos_d, wi.z);
+    const double theta_h = table::polar(hx, hy, hz);
+    return pdf_at(theta_h, std::sqrt(theta_h / (0.5 * kPiD)), phi_h, cos_d, wi.z);
 }
 
 bool NpfClosure::sample_direction(const Vec3& wo, float u1, float u2, ClosureSample& s) const {

@@ -183,10 +183,12 @@ bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_
 
     at.cos_i = iz;
     at.cos_o = oz;
+    at.inv_cos_product = 1.0 / (iz * oz);
     at.theta_h = theta_h;
     at.phi_h = phi_h;
     at.cos_d = cos_d;
-    const Lerp d_row = clamped(std::sqrt(theta_h / kHalfPi) * d_theta, d_theta);
+    at.u_h = std::sqrt(theta_h / kHalfPi);
+    const Lerp d_row = clamped(at.u_h * d_theta, d_theta);
     const Lerp d_col = periodic(phi_h / kTwoPi * d_phi, d_phi);
     at.d_row = d_row.i0 + d_row.t;
     at.d_col = d_col.i0 + d_col.t;
@@ -219,7 +221,7 @@ double NpfModel::value(const Lookup& at, std::size_t c) const {
     }
     const float* f = F.data() + c * std::size_t(f_theta);
     const double fv = f[at.f0] * (1 - at.f_t) + f[at.f1] * at.f_t;
-    return rho_d[c] + rho_s[c] * d * fv * gi * go / (at.cos_i * at.cos_o);
+    return rho_d[c] + rho_s[c] * d * fv * gi * go * at.inv_cos_product;
 }
 
 void NpfModel::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {

@@ -39,8 +39,9 @@ public:
     Vec3 sample(float u1, float u2) const;
     // Solid-angle density of `h` (unit, local frame); 0 below the horizon.
     double pdf(const Vec3& h) const;
-    // The same from h's polar angle (radians, [0, pi/2)) and azimuth ([0, 2 pi)).
-    double pdf(double theta_h, double phi_h) const;
+    // The same from h's polar angle (radians, [0, pi/2)), its square-root-mapped coordinate
+    // u_h = sqrt(theta_h / (pi/2)) and its azimuth ([0, 2 pi)).
+    double pdf(double theta_h, double u_h, double phi_h) const;
 
 private:
     int m_theta = 0, m_phi = 0;

@@ -98,7 +98,7 @@ private:
     // Fills `at` (model convention: wi conditioned = our wo); false below the horizon.
     bool lookup(const Vec3& wo, const Vec3& wi, NpfModel::Lookup& at) const;
     void write_values(const NpfModel::Lookup& at, double cos_light, WavelengthRequest request, float* value) const;
-    float pdf_at(double theta_h, double phi_h, double cos_d, double cos_light) const;
+    float pdf_at(double theta_h, double u_h, double phi_h, double cos_d, double cos_light) const;
 
     Path m_path = Path::Memory;
     NpfModel m_model;

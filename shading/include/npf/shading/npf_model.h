@@ -78,10 +78,11 @@ struct NpfModel {
             std::size_t index[4] = {0, 0, 0, 0};
             double weight[4] = {0, 0, 0, 0};
         };
-        double cos_i = 0.0, cos_o = 0.0;
+        double cos_i = 0.0, cos_o = 0.0, inv_cos_product = 0.0;  // 1 / (cos_i cos_o)
         // The half vector's angles (phi_h is 0 for an isotropic D) and cos theta_d = wi . h, for
         // the sampler's pdf.
         double theta_h = 0.0, phi_h = 0.0, cos_d = 1.0;
+        double u_h = 0.0;  // sqrt(theta_h / (pi/2)), D's row coordinate in [0, 1]
         // Continuous positions on each table, in cells with centres at integers (rows of G may
         // exceed g_theta - 1: extrapolation), for lookups that interpolate elsewhere (a texture).
         double d_row = 0.0, d_col = 0.0, g_i_row = 0.0, g_i_col = 0.0, g_o_row = 0.0, g_o_col = 0.0;
