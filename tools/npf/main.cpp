@@ -22,6 +22,8 @@ const Subcommand kSubcommands[] = {
     {"eval", npf::cli::run_eval, "evaluate a material at direction pairs read from a file or stdin"},
     {"convert", npf::cli::run_convert, "fit the NPF factors to a material and write the factor texture (.exr)"},
     {"synth", npf::cli::run_synth, "write an RGL .bsdf file from an analytic material (recipe or flags)"},
+    {"bench", npf::cli::run_bench, "time shading with an NPF texture (eval, sample, pdf) against its source"},
+    {"display", npf::cli::run_display, "write a scene-linear or XYZ image as a display-encoded PNG (OpenColorIO)"},
 };
 
 void print_usage(std::FILE* to) {

@@ -11,12 +11,13 @@
 // per axis instead of pbrt's 64 so that building takes a fraction of a second); a colour's
 // coefficients are interpolated trilinearly.
 //
-// Accuracy (docs/color.md has the measurements): the table alone returns colours to a few 1e-3
-// (worst near the white corner, where two components are close to 1); SigmoidFit::Refined
-// continues Gauss-Newton from the table's coefficients and returns the colour to better than
-// 1e-6 wherever the sigmoid family reaches it (everything in [0, 1]^3 except a sliver at the
-// white corner and the pure green and magenta corners, which no smooth bounded spectrum
-// reaches). linear_srgb_to_spectrum (spectrum.h) stays the exact, slower method.
+// Accuracy (docs/color.md has the measurements): the table alone returns colours to about 1e-3
+// (median 8e-4, 99th percentile 2.5e-3, up to 2.3e-2 near the white corner, where two
+// components are close to 1). SigmoidFit::Refined continues Gauss-Newton from the table's
+// coefficients and returns the colour to rounding wherever the sigmoid family reaches it: all of
+// [0, 1]^3 but pure green and magenta (5.7e-4 off) and a thin sliver at the white corner (for
+// example (1, 0.99, 1) or (0.975, 1, 0.97), up to 2.3e-2 off), which no spectrum of this family
+// has. linear_srgb_to_spectrum (spectrum.h) stays the exact method for every colour.
 #pragma once
 
 #include <npf/color/spectrum.h>
@@ -44,8 +45,8 @@ private:
 };
 
 enum class SigmoidFit {
-    Table,    // trilinear lookup: about 50 ns, colour to a few 1e-3
-    Refined,  // lookup, then Gauss-Newton to convergence: about 10 us, exact where reachable
+    Table,    // trilinear lookup: about 0.15 us, colour to about 1e-3
+    Refined,  // lookup, then Gauss-Newton to convergence: about 15 us, exact where reachable
 };
 
 // The reflectance for a linear sRGB colour in [0, 1]^3; components outside are clamped into
