@@ -156,18 +156,11 @@ float NpfClosure::eval(const Vec3& wo, const Vec3& wi, WavelengthRequest request
 }
 
 float NpfClosure::pdf(const Vec3& wo, const Vec3& wi) const {
-    // Only the half vector is needed, computed exactly as NpfModel::prepare computes it so that
-    // eval's pdf and this one agree to the bit.
-    if (!(wo.z > 0.f) || !(wi.z > 0.f) || !std::isfinite(wo.x + wo.y + wi.x + wi.y)) return 0.f;
-    double hx = double(wo.x) + double(wi.x), hy = double(wo.y) + double(wi.y), hz = double(wo.z) + double(wi.z);
-    const double len = std::sqrt(hx * hx + hy * hy + hz * hz);
-    hx /= len;
-    hy /= len;
-    hz /= len;
-    const double cos_d = double(wo.x) * hx + double(wo.y) * hy + double(wo.z) * hz;
-    const double phi_h = m_model.d_phi == 1 ? 0.0 : table::azimuth(hx, hy);
-    const double theta_h = table::polar(hx, hy, hz);
-    return pdf_at(theta_h, std::sqrt(theta_h / (0.5 * kPiD)), phi_h, cos_d, wi.z);
+    // Only the half vector is needed, computed by the same code as in eval, so that eval's pdf
+    // and this one agree to the bit.
+    NpfModel::HalfVector h;
+    if (!m_model.half_vector(wo, wi, h)) return 0.f;
+    return pdf_at(h.theta_h, h.u_h, h.phi_h, h.cos_d, h.cos_o);
 }
 
 bool NpfClosure::sample_direction(const Vec3& wo, float u1, float u2, ClosureSample& s) const {

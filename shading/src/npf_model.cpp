@@ -12,6 +12,8 @@ namespace npf {
 namespace {
 
 constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
+// Multiplications by these rather than divisions: the hot path has a dozen of them per pair.
+constexpr double kInvHalfPi = 1.0 / kHalfPi, kInvTwoPi = 1.0 / kTwoPi;
 
 using table::Lerp;
 using table::clamped;
@@ -37,9 +39,9 @@ NpfModel::Lookup::Bilinear bilinear(const Lerp& row, const Lerp& col, int cols) 
 // G's cell position for one direction.
 NpfModel::Lookup::Bilinear g_position(double x, double y, double z, int g_theta, int g_phi, double& row,
                                       double& col) {
-    const Lerp r = extrapolated(polar(x, y, z) / kHalfPi * g_theta, g_theta);
+    const Lerp r = extrapolated(polar(x, y, z) * kInvHalfPi * g_theta, g_theta);
     // An isotropic table has one column: no azimuth to compute.
-    const Lerp c = g_phi == 1 ? Lerp{} : periodic(azimuth(x, y) / kTwoPi * g_phi, g_phi);
+    const Lerp c = g_phi == 1 ? Lerp{} : periodic(azimuth(x, y) * kInvTwoPi * g_phi, g_phi);
     row = r.i0 + r.t;
     col = c.i0 + c.t;
     return bilinear(r, c, g_phi);
@@ -52,7 +54,11 @@ double interpolate(const float* table, const NpfModel::Lookup::Bilinear& b) {
 
 // The interpolated basis values of one table at one position.
 void project(const SpectralBasis& s, const NpfModel::Lookup::Bilinear& b, double* out) {
-    for (int k = 0; k < s.rank; ++k) out[k] = interpolate(s.basis.data() + std::size_t(k) * s.cells, b);
+    // Corners and weights in locals: `out` could alias b.weight as far as the compiler knows.
+    const std::size_t i0 = b.index[0], i1 = b.index[1], i2 = b.index[2], i3 = b.index[3], cells = s.cells;
+    const double w0 = b.weight[0], w1 = b.weight[1], w2 = b.weight[2], w3 = b.weight[3];
+    const float* t = s.basis.data();
+    for (int k = 0; k < s.rank; ++k, t += cells) out[k] = t[i0] * w0 + t[i1] * w1 + t[i2] * w2 + t[i3] * w3;
 }
 
 double combine_cached(const SpectralBasis& s, std::size_t c, const double* projected) {
@@ -167,33 +173,45 @@ void NpfModel::validate(const std::string& source) const {
     check_basis(G, "G", std::size_t(g_theta) * std::size_t(g_phi), C, source);
 }
 
-bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_bases) const {
+bool NpfModel::half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const {
     if (!(wi.z > 0.f) || !(wo.z > 0.f) || !finite(wi) || !finite(wo)) return false;
+    const double ix = wi.x, iy = wi.y, iz = wi.z;
+    double hx = ix + wo.x, hy = iy + wo.y, hz = iz + wo.z;
+    const double inv_len = 1.0 / std::sqrt(hx * hx + hy * hy + hz * hz);
+    h.x = hx *= inv_len;
+    h.y = hy *= inv_len;
+    h.z = hz *= inv_len;
+    h.cos_i = iz;
+    h.cos_o = wo.z;
+    h.theta_h = polar(hx, hy, hz);
+    h.phi_h = d_phi == 1 ? 0.0 : azimuth(hx, hy);
+    h.u_h = std::sqrt(h.theta_h * kInvHalfPi);
+    h.cos_d = ix * hx + iy * hy + iz * hz;
+    return true;
+}
+
+bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_bases) const {
+    HalfVector h;
+    if (!half_vector(wi, wo, h)) return false;
     const double ix = wi.x, iy = wi.y, iz = wi.z, ox = wo.x, oy = wo.y, oz = wo.z;
-    double hx = ix + ox, hy = iy + oy, hz = iz + oz;
-    const double len = std::sqrt(hx * hx + hy * hy + hz * hz);
-    hx /= len;
-    hy /= len;
-    hz /= len;
-    const double theta_h = polar(hx, hy, hz), phi_h = d_phi == 1 ? 0.0 : azimuth(hx, hy);
     // theta_d is the angle between wi and h: atan2(|wi x h|, wi . h), accurate at both ends.
-    const double cx = iy * hz - iz * hy, cy = iz * hx - ix * hz, cz = ix * hy - iy * hx;
-    const double cos_d = ix * hx + iy * hy + iz * hz;
-    const double theta_d = table::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), cos_d);
+    const double cx = iy * h.z - iz * h.y, cy = iz * h.x - ix * h.z, cz = ix * h.y - iy * h.x;
+    const double theta_d = table::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), h.cos_d);
+    const double phi_h = h.phi_h;
 
     at.cos_i = iz;
     at.cos_o = oz;
     at.inv_cos_product = 1.0 / (iz * oz);
-    at.theta_h = theta_h;
-    at.phi_h = phi_h;
-    at.cos_d = cos_d;
-    at.u_h = std::sqrt(theta_h / kHalfPi);
+    at.theta_h = h.theta_h;
+    at.phi_h = h.phi_h;
+    at.u_h = h.u_h;
+    at.cos_d = h.cos_d;
     const Lerp d_row = clamped(at.u_h * d_theta, d_theta);
-    const Lerp d_col = periodic(phi_h / kTwoPi * d_phi, d_phi);
+    const Lerp d_col = periodic(phi_h * kInvTwoPi * d_phi, d_phi);
     at.d_row = d_row.i0 + d_row.t;
     at.d_col = d_col.i0 + d_col.t;
     at.d = bilinear(d_row, d_col, d_phi);
-    const Lerp f = clamped(theta_d / kHalfPi * f_theta, f_theta);
+    const Lerp f = clamped(theta_d * kInvHalfPi * f_theta, f_theta);
     at.f0 = f.i0;
     at.f1 = f.i1;
     at.f_t = f.t;

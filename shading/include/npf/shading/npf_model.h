@@ -72,25 +72,28 @@ struct NpfModel {
     // needs the cache, so this is also the largest rank it shades.)
     static constexpr int kInlineRank = 256;
 
-    // Everything about one direction pair that every channel shares.
+    // Everything about one direction pair that every channel shares. No member initialisers:
+    // prepare() fills every field, and the shading hot path should not pay for zeroing.
     struct Lookup {
         struct Bilinear {
-            std::size_t index[4] = {0, 0, 0, 0};
-            double weight[4] = {0, 0, 0, 0};
+            std::size_t index[4];
+            double weight[4];
         };
-        double cos_i = 0.0, cos_o = 0.0, inv_cos_product = 0.0;  // 1 / (cos_i cos_o)
+        double cos_i, cos_o, inv_cos_product;  // inv: 1 / (cos_i cos_o)
         // The half vector's angles (phi_h is 0 for an isotropic D) and cos theta_d = wi . h, for
         // the sampler's pdf.
-        double theta_h = 0.0, phi_h = 0.0, cos_d = 1.0;
-        double u_h = 0.0;  // sqrt(theta_h / (pi/2)), D's row coordinate in [0, 1]
+        double theta_h, phi_h, cos_d;
+        double u_h;  // sqrt(theta_h / (pi/2)), D's row coordinate in [0, 1]
         // Continuous positions on each table, in cells with centres at integers (rows of G may
         // exceed g_theta - 1: extrapolation), for lookups that interpolate elsewhere (a texture).
-        double d_row = 0.0, d_col = 0.0, g_i_row = 0.0, g_i_col = 0.0, g_o_row = 0.0, g_o_col = 0.0;
+        double d_row, d_col, g_i_row, g_i_col, g_o_row, g_o_col;
         Bilinear d, g_i, g_o;
-        int f0 = 0, f1 = 0;
-        double f_t = 0.0;
-        bool cached = false;  // basis values below are filled
-        double d_basis[kInlineRank], g_i_basis[kInlineRank], g_o_basis[kInlineRank];
+        int f0, f1;
+        double f_t;
+        bool cached;  // basis values below are filled
+        // Padded so the three arrays are not 4 KiB apart: loads of one would falsely wait on
+        // stores to another (4K aliasing), which cost a third of an evaluation.
+        double d_basis[kInlineRank + 8], g_i_basis[kInlineRank + 8], g_o_basis[kInlineRank + 8];
     };
 
     // Fills `at` for the pair; false when either direction is at or below the horizon or not
@@ -99,6 +102,15 @@ struct NpfModel {
     // tables corner by corner, unless the caller fills the cache itself and sets at.cached (the
     // texture path does).
     bool prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_bases = true) const;
+    // The part of prepare() that a pdf needs: the half vector and its angles.
+    struct HalfVector {
+        double cos_i, cos_o;
+        double x, y, z;            // h
+        double theta_h, u_h, phi_h;  // as in Lookup
+        double cos_d;              // wi . h
+    };
+    // false below the horizon (as prepare).
+    bool half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const;
     // f_r of stored channel c at a prepared pair.
     double value(const Lookup& at, std::size_t c) const;
     // f_r of every stored channel (channel_count() values); 0 below the horizon.

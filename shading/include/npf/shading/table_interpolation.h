@@ -59,13 +59,12 @@ inline double atan2(double y, double x) {
     constexpr double kTanPiOver8 = 0.41421356237309503, kQuarterPi = 0.78539816339744831;
     const double ax = std::fabs(x), ay = std::fabs(y);
     const bool swap = ay > ax;
-    const double big = swap ? ay : ax;
+    const double big = swap ? ay : ax, small = swap ? ax : ay;
     if (big == 0.0) return 0.0;
-    double t = (swap ? ax : ay) / big, base = 0.0;  // t in [0, 1]
-    if (t > kTanPiOver8) {
-        t = (t - 1.0) / (t + 1.0);
-        base = kQuarterPi;
-    }
+    // One division either way: atan(small / big), or pi/4 + atan((small - big) / (small + big))
+    // once the ratio passes tan(pi/8).
+    const bool shift = small > kTanPiOver8 * big;
+    const double t = shift ? (small - big) / (small + big) : small / big;
     const double s = t * t;
     double p = -0.027265716714484144;
     p = p * s + 0.05171104301492307;
@@ -76,7 +75,7 @@ inline double atan2(double y, double x) {
     p = p * s - 0.14285713937600766;
     p = p * s + 0.19999999997784587;
     p = p * s - 0.3333333333333103;
-    double r = base + (t + t * s * p);  // atan(min / max), in [0, pi/4]
+    double r = (shift ? kQuarterPi : 0.0) + (t + t * s * p);  // atan(small / big), in [0, pi/4]
     if (swap) r = 2.0 * kQuarterPi - r;
     if (x < 0.0) r = 4.0 * kQuarterPi - r;
     return y < 0.0 ? -r : r;
