@@ -19,3 +19,7 @@ echo "f_r (1/sr) at the probe directions of data/materials/probe_dirs.txt, measu
 build/tools/npf/npf eval "$material" --dirs data/materials/probe_dirs.txt
 echo "and fitted (out/ilm_l3_37_metallic.exr):"
 build/tools/npf/npf eval out/ilm_l3_37_metallic.exr --dirs data/materials/probe_dirs.txt
+echo "and through OpenImageIO's TextureSystem (the shading module's texture path):"
+build/tools/npf/npf eval out/ilm_l3_37_metallic.exr --dirs data/materials/probe_dirs.txt --path texture
+echo
+build/tools/npf/npf bench out/ilm_l3_37_metallic.exr --against "$material" --seconds 0.3

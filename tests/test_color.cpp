@@ -8,6 +8,8 @@
 
 #include <synthetic_rgl.h>
 
+#include "error_of.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -54,17 +56,7 @@ double max_second_difference(const SampledSpectrum& s) {
     return m;
 }
 
-// Runs `f`, expects npf::Error, returns its message ("" if none was thrown).
-template <class F>
-std::string error_of(F&& f) {
-    try {
-        f();
-    } catch (const npf::Error& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "no npf::Error thrown";
-    return "";
-}
+using npf::testing::error_of;
 
 // ---------------------------------------------------------------------------------------------
 // CIE tables

@@ -11,6 +11,8 @@
 #include <synthetic_rgl.h>
 
 #include <OpenImageIO/imageio.h>
+#include "error_of.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -51,16 +53,7 @@ private:
     std::optional<std::string> m_old;
 };
 
-template <class F>
-std::string error_of(F&& f) {
-    try {
-        f();
-    } catch (const npf::Error& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "no npf::Error thrown";
-    return "";
-}
+using npf::testing::error_of;
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
