@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 #include <thread>
@@ -276,6 +277,21 @@ TEST(NpfClosure, OpeningErrorsNameTheFile) {
             ADD_FAILURE() << "opened a missing file";
         } catch (const npf::Error& e) {
             EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
+        }
+        // A valid texture cut short: its pixels are missing, on the TextureSystem's route too.
+        const std::string whole = file("whole.exr"), cut = file("cut short.exr");
+        npf::write_npf_texture(full_rank(make_test_factors({true, 6, true, 8})), whole);
+        {
+            std::ifstream in(whole, std::ios::binary);
+            const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+        }
+        try {
+            NpfClosure c(cut, p);
+            ADD_FAILURE() << "opened a truncated file";
+        } catch (const npf::Error& e) {
+            EXPECT_NE(std::string(e.what()).find(cut), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("truncated or corrupt"), std::string::npos) << e.what();
         }
         const std::string junk = file("junk.exr");
         std::ofstream(junk) << "not an image";

@@ -57,7 +57,7 @@ double specular_albedo_at_normal(const NpfModel& m, const HalfVectorSampler& sam
 
 NpfClosure::NpfClosure(NpfModel model) : m_path(Path::Memory), m_model(std::move(model)) {
     m_model.validate("NPF model");
-    finish_construction("NPF model");
+    finish_construction();
 }
 
 NpfClosure::NpfClosure(const std::string& path, Path path_kind, OIIO::TextureSystem* ts) : m_path(path_kind) {
@@ -67,7 +67,7 @@ NpfClosure::NpfClosure(const std::string& path, Path path_kind, OIIO::TextureSys
         m_texture = std::make_unique<TextureTables>(path, ts);
         m_model = m_texture->read_model();
     }
-    finish_construction(path);
+    finish_construction();
     if (m_texture) {
         // The bases now live in the TextureSystem's cache only.
         m_model.D.basis = std::vector<float>();
@@ -77,7 +77,7 @@ NpfClosure::NpfClosure(const std::string& path, Path path_kind, OIIO::TextureSys
 
 NpfClosure::~NpfClosure() = default;
 
-void NpfClosure::finish_construction(const std::string& source) {
+void NpfClosure::finish_construction() {
     try {
         m_sampler = HalfVectorSampler(HalfVectorSampler::luminance_averaged_ndf(m_model), m_model.d_theta,
                                       m_model.d_phi);
@@ -97,14 +97,6 @@ void NpfClosure::finish_construction(const std::string& source) {
         // Neither strategy may starve: each keeps at least 5 % of the samples.
         m_diffuse_probability = std::clamp(diffuse / (diffuse + specular), 0.05, 0.95);
     }
-    if (m_texture && m_model.D.rank > NpfModel::kInlineRank) {
-        throw Error(source, "the texture path shades ranks up to " + std::to_string(NpfModel::kInlineRank) +
-                                "; this file's D has rank " + std::to_string(m_model.D.rank));
-    }
-    if (m_texture && m_model.G.rank > NpfModel::kInlineRank) {
-        throw Error(source, "the texture path shades ranks up to " + std::to_string(NpfModel::kInlineRank) +
-                                "; this file's G has rank " + std::to_string(m_model.G.rank));
-    }
 }
 
 std::size_t NpfClosure::value_count(WavelengthRequest request) const {
@@ -116,7 +108,7 @@ bool NpfClosure::lookup(const Vec3& wo, const Vec3& wi, NpfModel::Lookup& at) co
     // The model conditions on its `wi`, the viewer side: our wo.
     if (!m_texture) return m_model.prepare(wo, wi, at);
     if (!m_model.prepare(wo, wi, at, /*project_bases=*/false)) return false;
-    return m_texture->fill(m_model, at);
+    return m_texture->fill(at);
 }
 
 void NpfClosure::write_values(const NpfModel::Lookup& at, double cos_light, WavelengthRequest request,

@@ -7,6 +7,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <utility>
 
 namespace npf {
 
@@ -44,6 +45,14 @@ NpfClosure::TextureTables::~TextureTables() {
 
 NpfModel NpfClosure::TextureTables::read_model() {
     NpfModel m = read_npf_texture(m_path, *m_ts);
+    // Checked before anything is built on the model: the lookups fetch into buffers of this size.
+    for (const auto& [name, rank] : {std::pair<const char*, int>{"D", m.D.rank}, {"G", m.G.rank}}) {
+        if (rank > NpfModel::kInlineRank) {
+            throw Error(m_path, std::string("the texture path shades ranks up to ") +
+                                    std::to_string(NpfModel::kInlineRank) + "; this file's " + name + " has rank " +
+                                    std::to_string(rank));
+        }
+    }
     m_handle = m_ts->get_texture_handle(m_name);
     if (!m_handle) throw Error(m_path, "the TextureSystem gives no handle: " + m_ts->geterror());
     int count = 0;
@@ -108,8 +117,7 @@ bool NpfClosure::TextureTables::lookup_g(double row, double col, int rank, doubl
     return true;
 }
 
-bool NpfClosure::TextureTables::fill(const NpfModel& m, NpfModel::Lookup& at) const {
-    (void)m;
+bool NpfClosure::TextureTables::fill(NpfModel::Lookup& at) const {
     float d[NpfModel::kInlineRank];
     if (!lookup(m_d_opt, at.d_row, at.d_col, m_d_rank, d)) return false;
     std::copy(d, d + m_d_rank, at.d_basis);

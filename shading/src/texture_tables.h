@@ -22,13 +22,14 @@ public:
     TextureTables& operator=(const TextureTables&) = delete;
 
     // The whole model, read through the TextureSystem (checked as read_npf_texture checks);
-    // also resolves the parts and channels the lookups use. Throws npf::Error naming the file.
+    // also resolves the parts and channels the lookups use. Throws npf::Error naming the file,
+    // also for a rank above NpfModel::kInlineRank (the lookups' buffers).
     NpfModel read_model();
 
     // Fills at.d_basis, at.g_i_basis and at.g_o_basis from texture lookups at the positions
     // prepare() computed, and sets at.cached. false if the TextureSystem fails (the file vanished
     // from a cache that had evicted it, say): the caller then shades black.
-    bool fill(const NpfModel& m, NpfModel::Lookup& at) const;
+    bool fill(NpfModel::Lookup& at) const;
 
 private:
     bool lookup(OIIO::TextureOpt opt, double row, double col, int nchannels, float* out) const;

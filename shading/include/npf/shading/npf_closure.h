@@ -94,7 +94,7 @@ public:
 private:
     class TextureTables;
 
-    void finish_construction(const std::string& source);
+    void finish_construction();
     // Fills `at` (model convention: wi conditioned = our wo); false below the horizon.
     bool lookup(const Vec3& wo, const Vec3& wi, NpfModel::Lookup& at) const;
     void write_values(const NpfModel::Lookup& at, double cos_light, WavelengthRequest request, float* value) const;
