@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -88,6 +89,13 @@ TEST(CliBench, JsonHasTheDocumentedKeys) {
     const std::size_t at = r.out.find("\"eval_memory_ns\": ");
     ASSERT_NE(at, std::string::npos);
     EXPECT_GT(std::atof(r.out.c_str() + at + 18), 0.0);
+
+    // The material's path is a JSON string, quotes and backslashes escaped.
+    const std::string odd = folder() + "/a \"quoted\" \\ name.exr";
+    std::filesystem::copy_file(path, odd, std::filesystem::copy_options::overwrite_existing);
+    const ToolRun q = run_tool({"bench", odd, "--json", "--seconds", "0.01", "--threads", "1"});
+    ASSERT_EQ(q.status, 0) << describe(q);
+    EXPECT_TRUE(contains(q.out, "a \\\"quoted\\\" \\\\ name.exr\", ")) << describe(q);
 }
 
 TEST(CliBench, RejectsWhatItCannotTime) {

@@ -108,6 +108,24 @@ Timing time_calls(double seconds, const std::function<double()>& batch) {
     return t;
 }
 
+// A JSON string literal: paths may hold quotes, backslashes or control characters.
+std::string json_string(const std::string& text) {
+    std::string out = "\"";
+    for (unsigned char ch : text) {
+        if (ch == '"' || ch == '\\') {
+            out += '\\';
+            out += char(ch);
+        } else if (ch < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", ch);
+            out += buf;
+        } else {
+            out += char(ch);
+        }
+    }
+    return out + "\"";
+}
+
 std::string json_number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.4g", v);
@@ -263,7 +281,7 @@ int run_bench(const std::vector<std::string>& args) {
     const NpfModel& m = memory.model();
 
     if (json) {
-        std::string out = "{\"material\": \"" + path + "\", \"channels\": " + std::to_string(m.channel_count()) +
+        std::string out = "{\"material\": " + json_string(path) + ", \"channels\": " + std::to_string(m.channel_count()) +
                           ", \"rgb\": " + (channels.is_rgb() ? "true" : "false") + ", \"d_rank\": " +
                           std::to_string(m.D.rank) + ", \"g_rank\": " + std::to_string(m.G.rank);
         for (const Row& r : rows) out += std::string(", \"") + r.key + "\": " + json_number(r.t.ns_per_call);
