@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -77,16 +78,65 @@ TEST(TableAngles, Atan2MatchesTheStandardOne) {
         const double y = uni(rng) * scale, x = uni(rng);
         worst = std::max(worst, std::fabs(npf::table::atan2(y, x) - std::atan2(y, x)));
     }
-    EXPECT_LT(worst, 4e-15);
+    // The polynomial's own error is 2e-13 rad; a whole table cell is at least 4e-3 rad.
+    EXPECT_LT(worst, 3e-13);
+    EXPECT_GT(worst, 0.0);  // not std::atan2 under another name
     for (double y : {0.0, 1.0, -1.0, 1e-300, -1e-300, 1e300}) {
         for (double x : {0.0, 1.0, -1.0, 1e-300, -1e-300, 1e300}) {
             if (x == 0.0 && y == 0.0) continue;
-            EXPECT_NEAR(npf::table::atan2(y, x), std::atan2(y, x), 4e-15) << y << ", " << x;
+            EXPECT_NEAR(npf::table::atan2(y, x), std::atan2(y, x), 3e-13) << y << ", " << x;
         }
+    }
+    EXPECT_EQ(npf::table::atan2(0.0, 0.0), 0.0);
+    // polar_of(r, z) is atan2(r, z) over the whole range of z, the lower hemisphere included.
+    for (int n = 0; n < 100000; ++n) {
+        const double r = std::fabs(uni(rng)), z = uni(rng);
+        ASSERT_NEAR(npf::table::polar_of(r, z), std::atan2(r, z), 3e-13) << r << ", " << z;
     }
     EXPECT_NEAR(npf::table::polar(0.0, 0.0, 1.0), 0.0, 1e-300);
     EXPECT_NEAR(npf::table::polar(1e-9, 0.0, 1.0), 1e-9, 1e-24);  // the pole keeps its digits
+    EXPECT_NEAR(npf::table::polar(1.0, 0.0, -1e-9), 0.5 * npf::kPiD + 1e-9, 1e-15);
+    EXPECT_NEAR(npf::table::azimuth(1.0, -1e-12), 2.0 * npf::kPiD - 1e-12, 1e-15);
     EXPECT_DOUBLE_EQ(npf::table::azimuth(0.0, -1.0), 1.5 * npf::kPiD);
+}
+
+// ---- Wavelength location -------------------------------------------------------------------
+
+TEST(WavelengthLocator, AgreesWithTheSearchToTheBit) {
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> uni(0.f, 1.f);
+    std::vector<std::vector<float>> grids;
+    std::vector<float> uniform, uneven, clustered;
+    for (int k = 0; k < 195; ++k) uniform.push_back(360.f + 2.4f * float(k));
+    float w = 300.f;
+    for (int k = 0; k < 60; ++k) uneven.push_back(w += 0.01f + 20.f * uni(rng) * uni(rng));
+    for (int k = 0; k < 40; ++k) clustered.push_back(k < 30 ? 500.f + 0.001f * float(k) : 500.f + 100.f * float(k));
+    grids = {uniform, uneven, clustered, {550.f}, {400.f, 700.f}, {450.f, 450.f, 600.f}};
+    for (const std::vector<float>& grid : grids) {
+        const npf::WavelengthLocator locator(grid);
+        std::vector<float> queries = {std::nanf(""), std::numeric_limits<float>::infinity(),
+                                      -std::numeric_limits<float>::infinity(), 0.f, 1e30f};
+        for (float g : grid) {
+            queries.push_back(g);
+            queries.push_back(std::nextafter(g, 0.f));
+            queries.push_back(std::nextafter(g, 1e30f));
+        }
+        const float lo = grid.front() - 50.f, span = grid.back() - grid.front() + 100.f;
+        for (int n = 0; n < 20000; ++n) queries.push_back(lo + span * uni(rng));
+        for (float lambda : queries) {
+            std::uint32_t a0, a1, b0, b1;
+            float ta, tb;
+            npf::locate_wavelength(grid.data(), grid.size(), lambda, a0, a1, ta);
+            locator.locate(lambda, b0, b1, tb);
+            ASSERT_EQ(a0, b0) << lambda << " on a grid of " << grid.size();
+            ASSERT_EQ(a1, b1) << lambda;
+            if (std::isnan(ta)) {
+                ASSERT_TRUE(std::isnan(tb)) << lambda;
+            } else {
+                ASSERT_EQ(ta, tb) << lambda;
+            }
+        }
+    }
 }
 
 // ---- Alias table ---------------------------------------------------------------------------

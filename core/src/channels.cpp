@@ -25,6 +25,18 @@ std::string Channels::describe() const {
     return os.str();
 }
 
+namespace {
+
+// Channels i0 = i and i1 = i + 1 around `lambda` and the weight of i1, once i is known.
+void blend_at(const float* grid, std::size_t i, float lambda, std::uint32_t& i0, std::uint32_t& i1, float& t) {
+    i0 = std::uint32_t(i);
+    i1 = i0 + 1;
+    const float span = grid[i1] - grid[i0];
+    t = span > 0.f ? std::clamp((lambda - grid[i0]) / span, 0.f, 1.f) : 0.f;
+}
+
+}  // namespace
+
 void locate_wavelength(const float* grid, std::size_t n, float lambda, std::uint32_t& i0, std::uint32_t& i1,
                        float& t) {
     i0 = i1 = 0;
@@ -32,11 +44,37 @@ void locate_wavelength(const float* grid, std::size_t n, float lambda, std::uint
     if (n < 2) return;
     const float* it = std::upper_bound(grid, grid + n, lambda);
     std::size_t i = it == grid ? 0 : std::size_t(it - grid) - 1;
-    i = std::min(i, n - 2);
-    i0 = std::uint32_t(i);
-    i1 = i0 + 1;
-    const float span = grid[i1] - grid[i0];
-    t = span > 0.f ? std::clamp((lambda - grid[i0]) / span, 0.f, 1.f) : 0.f;
+    blend_at(grid, std::min(i, n - 2), lambda, i0, i1, t);
+}
+
+WavelengthLocator::WavelengthLocator(std::vector<float> ascending_grid) : m_grid(std::move(ascending_grid)) {
+    const std::size_t n = m_grid.size();
+    if (n < 2 || !(m_grid.back() > m_grid.front()) || !std::isfinite(m_grid.back() - m_grid.front())) return;
+    m_lo = m_grid.front();
+    m_hi = m_grid.back();
+    const std::size_t buckets = 4 * n;
+    m_buckets_per_nm = float(double(buckets) / (double(m_hi) - double(m_lo)));
+    m_start.resize(buckets);
+    for (std::size_t b = 0; b < buckets; ++b) {
+        const float edge = float(double(m_lo) + double(b) / double(m_buckets_per_nm));
+        const auto it = std::upper_bound(m_grid.begin(), m_grid.end(), edge);
+        m_start[b] = std::uint32_t(it == m_grid.begin() ? 0 : std::size_t(it - m_grid.begin()) - 1);
+    }
+}
+
+void WavelengthLocator::locate(float lambda, std::uint32_t& i0, std::uint32_t& i1, float& t) const {
+    const std::size_t n = m_grid.size();
+    // Outside the grid, NaN, or a grid without buckets: the search gives the same answer.
+    if (m_start.empty() || !(lambda >= m_lo && lambda <= m_hi)) {
+        locate_wavelength(m_grid.data(), n, lambda, i0, i1, t);
+        return;
+    }
+    std::size_t i = m_start[std::min(std::size_t((lambda - m_lo) * m_buckets_per_nm), m_start.size() - 1)];
+    // The last index at or below lambda (what upper_bound - 1 finds), whatever rounding did to
+    // the bucket's edge.
+    while (i + 1 < n && m_grid[i + 1] <= lambda) ++i;
+    while (i > 0 && m_grid[i] > lambda) --i;
+    blend_at(m_grid.data(), std::min(i, n - 2), lambda, i0, i1, t);
 }
 
 ChannelQuery make_channel_query(const Channels& stored, const Channels& requested,

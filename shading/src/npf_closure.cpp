@@ -78,6 +78,7 @@ NpfClosure::NpfClosure(const std::string& path, Path path_kind, OIIO::TextureSys
 NpfClosure::~NpfClosure() = default;
 
 void NpfClosure::finish_construction() {
+    if (!m_model.channels.is_rgb()) m_wavelengths = WavelengthLocator(m_model.channels.wavelengths());
     try {
         m_sampler = HalfVectorSampler(HalfVectorSampler::luminance_averaged_ndf(m_model), m_model.d_theta,
                                       m_model.d_phi);
@@ -118,11 +119,10 @@ void NpfClosure::write_values(const NpfModel::Lookup& at, double cos_light, Wave
         for (std::size_t c = 0; c < C; ++c) value[c] = finite_float(std::max(0.0, m_model.value(at, c)) * cos_light);
         return;
     }
-    const std::vector<float>& grid = m_model.channels.wavelengths();
     for (int k = 0; k < request.count; ++k) {
         std::uint32_t i0, i1;
         float t;
-        locate_wavelength(grid.data(), grid.size(), request.nm[k], i0, i1, t);
+        m_wavelengths.locate(request.nm[k], i0, i1, t);
         const double a = m_model.value(at, i0);
         const double v = t == 0.f ? a : (1.0 - t) * a + t * m_model.value(at, i1);
         value[k] = finite_float(std::max(0.0, v) * cos_light);

@@ -61,13 +61,6 @@ void project(const SpectralBasis& s, const NpfModel::Lookup::Bilinear& b, double
     for (int k = 0; k < s.rank; ++k, t += cells) out[k] = t[i0] * w0 + t[i1] * w1 + t[i2] * w2 + t[i3] * w3;
 }
 
-double combine_cached(const SpectralBasis& s, std::size_t c, const double* projected) {
-    const float* w = s.weights.data() + c * std::size_t(s.rank);
-    double v = 0.0;
-    for (int k = 0; k < s.rank; ++k) v += w[k] * projected[k];
-    return v > 0.0 ? v : 0.0;
-}
-
 double combine_direct(const SpectralBasis& s, std::size_t c, const NpfModel::Lookup::Bilinear& b) {
     const float* w = s.weights.data() + c * std::size_t(s.rank);
     double v = 0.0;
@@ -176,17 +169,16 @@ void NpfModel::validate(const std::string& source) const {
 bool NpfModel::half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const {
     if (!(wi.z > 0.f) || !(wo.z > 0.f) || !finite(wi) || !finite(wo)) return false;
     const double ix = wi.x, iy = wi.y, iz = wi.z;
-    double hx = ix + wo.x, hy = iy + wo.y, hz = iz + wo.z;
-    const double inv_len = 1.0 / std::sqrt(hx * hx + hy * hy + hz * hz);
-    h.x = hx *= inv_len;
-    h.y = hy *= inv_len;
-    h.z = hz *= inv_len;
+    // The angles of h = H / |H| are those of H = wi + wo: no normalisation on their path (a
+    // square root and a division less on the evaluation's longest dependency chain).
+    const double hx = ix + wo.x, hy = iy + wo.y, hz = iz + wo.z;
+    const double r2 = hx * hx + hy * hy;
     h.cos_i = iz;
     h.cos_o = wo.z;
-    h.theta_h = polar(hx, hy, hz);
+    h.theta_h = table::polar_of(std::sqrt(r2), hz);
     h.phi_h = d_phi == 1 ? 0.0 : azimuth(hx, hy);
     h.u_h = std::sqrt(h.theta_h * kInvHalfPi);
-    h.cos_d = ix * hx + iy * hy + iz * hz;
+    h.cos_d = (ix * hx + iy * hy + iz * hz) / std::sqrt(r2 + hz * hz);
     return true;
 }
 
@@ -194,9 +186,11 @@ bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_
     HalfVector h;
     if (!half_vector(wi, wo, h)) return false;
     const double ix = wi.x, iy = wi.y, iz = wi.z, ox = wo.x, oy = wo.y, oz = wo.z;
-    // theta_d is the angle between wi and h: atan2(|wi x h|, wi . h), accurate at both ends.
-    const double cx = iy * h.z - iz * h.y, cy = iz * h.x - ix * h.z, cz = ix * h.y - iy * h.x;
-    const double theta_d = table::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), h.cos_d);
+    // theta_d, the angle between wi and h, is half the angle between wi and wo:
+    // atan2(|wi x wo|, 1 + wi . wo) (the half-angle tangent), accurate at both ends and
+    // independent of h, so it runs beside theta_h rather than after it.
+    const double cx = iy * oz - iz * oy, cy = iz * ox - ix * oz, cz = ix * oy - iy * ox;
+    const double theta_d = table::polar_of(std::sqrt(cx * cx + cy * cy + cz * cz), 1.0 + (ix * ox + iy * oy + iz * oz));
     const double phi_h = h.phi_h;
 
     at.cos_i = iz;
@@ -226,17 +220,10 @@ bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_
     return true;
 }
 
-double NpfModel::value(const Lookup& at, std::size_t c) const {
-    double d, gi, go;
-    if (at.cached) {
-        d = combine_cached(D, c, at.d_basis);
-        gi = combine_cached(G, c, at.g_i_basis);
-        go = combine_cached(G, c, at.g_o_basis);
-    } else {
-        d = combine_direct(D, c, at.d);
-        gi = combine_direct(G, c, at.g_i);
-        go = combine_direct(G, c, at.g_o);
-    }
+double NpfModel::value_uncached(const Lookup& at, std::size_t c) const {
+    const double d = combine_direct(D, c, at.d);
+    const double gi = combine_direct(G, c, at.g_i);
+    const double go = combine_direct(G, c, at.g_o);
     const float* f = F.data() + c * std::size_t(f_theta);
     const double fv = f[at.f0] * (1 - at.f_t) + f[at.f1] * at.f_t;
     return rho_d[c] + rho_s[c] * d * fv * gi * go * at.inv_cos_product;

@@ -104,6 +104,7 @@ private:
     NpfModel m_model;
     std::unique_ptr<TextureTables> m_texture;
     HalfVectorSampler m_sampler;
+    WavelengthLocator m_wavelengths;  // the stored grid (spectral materials)
     double m_diffuse_probability = 0.0;
 };
 

@@ -105,17 +105,38 @@ struct NpfModel {
     // The part of prepare() that a pdf needs: the half vector and its angles.
     struct HalfVector {
         double cos_i, cos_o;
-        double x, y, z;            // h
         double theta_h, u_h, phi_h;  // as in Lookup
         double cos_d;              // wi . h
     };
     // false below the horizon (as prepare).
     bool half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const;
-    // f_r of stored channel c at a prepared pair.
+    // f_r of stored channel c at a prepared pair. Inline: a renderer calls it per channel.
     double value(const Lookup& at, std::size_t c) const;
     // f_r of every stored channel (channel_count() values); 0 below the horizon.
     void eval_all(const Vec3& wi, const Vec3& wo, double* out) const;
     double eval(std::size_t c, const Vec3& wi, const Vec3& wo) const;
+
+private:
+    double value_uncached(const Lookup& at, std::size_t c) const;
 };
+
+inline double NpfModel::value(const Lookup& at, std::size_t c) const {
+    if (!at.cached) return value_uncached(at, c);
+    const float* wd = D.weights.data() + c * std::size_t(D.rank);
+    const float* wg = G.weights.data() + c * std::size_t(G.rank);
+    double d = 0.0, gi = 0.0, go = 0.0;
+    for (int k = 0; k < D.rank; ++k) d += wd[k] * at.d_basis[k];
+    for (int k = 0; k < G.rank; ++k) {  // one set of weights for both directions
+        gi += wg[k] * at.g_i_basis[k];
+        go += wg[k] * at.g_o_basis[k];
+    }
+    // The clamp at 0 applies to the interpolated, recombined tables (see above).
+    d = d > 0.0 ? d : 0.0;
+    gi = gi > 0.0 ? gi : 0.0;
+    go = go > 0.0 ? go : 0.0;
+    const float* f = F.data() + c * std::size_t(f_theta);
+    const double fv = f[at.f0] * (1 - at.f_t) + f[at.f1] * at.f_t;
+    return rho_d[c] + rho_s[c] * d * fv * gi * go * at.inv_cos_product;
+}
 
 }  // namespace npf

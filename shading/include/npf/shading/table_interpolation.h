@@ -26,13 +26,15 @@ inline Lerp clamped(double x, int n) {
     return l;
 }
 
-// Periodic (phi axes).
+// Periodic (phi axes). Azimuths arrive in [0, 2 pi), so one wrap of the lower half cell covers
+// them; anything else takes the general (floor) path.
 inline Lerp periodic(double x, int n) {
     Lerp l;
     double c = x - 0.5;
-    c -= std::floor(c / n) * n;
+    if (c < 0.0) c += n;
+    if (!(c >= 0.0 && c < n)) c -= std::floor(c / n) * n;
     l.i0 = std::min(int(c), n - 1);
-    l.i1 = (l.i0 + 1) % n;
+    l.i1 = l.i0 + 1 == n ? 0 : l.i0 + 1;
     l.t = c - l.i0;
     return l;
 }
@@ -50,40 +52,63 @@ inline Lerp extrapolated(double x, int n) {
     return l;
 }
 
-// atan2(y, x) in (-pi, pi], accurate to 2e-15 rad, several times faster than std::atan2: the
-// shading hot path computes up to seven angles per evaluation. Range reduction to
-// |t| <= tan(pi/8), then t + t^3 P(t^2) with P a degree-8 fit (Chebyshev nodes) of
-// (atan t - t) / t^3. Signed zeros and infinities are not special-cased beyond what the
-// arithmetic gives; NaN in, NaN out.
-inline double atan2(double y, double x) {
+// The angle functions of the shading hot path. Each evaluation computes four polar angles and,
+// for anisotropic tables, three azimuths; with std::atan2 and branchy range reduction they cost
+// more than every table lookup together (random directions defeat the branch predictor). So:
+// range reduction by selects (short, mostly compiled to conditional moves), one division, and a
+// polynomial evaluated in Estrin's scheme for a short dependency chain. Measured on random
+// directions: polar 6 ns and azimuth 5 ns, against 20 ns for atan2(sqrt(x^2 + y^2), z) with
+// std::atan2 (2.6 GHz EPYC; writing the selects as arithmetic on 0/1 made them slower).
+
+namespace detail {
+
+// atan(q) for |q| <= tan(pi/8): q + q^3 P(q^2), P a degree-6 least-squares fit on Chebyshev
+// nodes; error below 2e-13 rad, far below any table's cell (the finest is ~0.25 degree).
+inline double atan_reduced(double q) {
+    const double s = q * q, s2 = s * s, s4 = s2 * s2;
+    const double p01 = -0.3333333325178168 + 0.19999990368499 * s;
+    const double p23 = -0.14285295313834662 + 0.11102007775528105 * s;
+    const double p45 = -0.08980719194750149 + 0.06926031589253447 * s;
+    const double p = (p01 + s2 * p23) + s4 * (p45 + s2 * -0.03688082797610674);
+    return q + q * s * p;
+}
+
+// atan(small / big) in [0, pi/4] for 0 <= small <= big: past tan(pi/8) the identity
+// atan(r) = pi/4 + atan((r - 1) / (r + 1)) keeps the polynomial's argument small. (0, 0) gives 0.
+inline double atan_ratio(double small, double big) {
     constexpr double kTanPiOver8 = 0.41421356237309503, kQuarterPi = 0.78539816339744831;
+    const bool shift = small > kTanPiOver8 * big;
+    const double num = shift ? small - big : small;
+    const double den = shift ? small + big : (big == 0.0 ? 1.0 : big);
+    return (shift ? kQuarterPi : 0.0) + atan_reduced(num / den);
+}
+
+}  // namespace detail
+
+// atan2(y, x) in (-pi, pi], accurate to 3e-13 rad. atan2(0, 0) is 0; NaN in, NaN out.
+inline double atan2(double y, double x) {
+    constexpr double kHalfPi = 1.5707963267948966, kPi = 3.141592653589793;
     const double ax = std::fabs(x), ay = std::fabs(y);
     const bool swap = ay > ax;
-    const double big = swap ? ay : ax, small = swap ? ax : ay;
-    if (big == 0.0) return 0.0;
-    // One division either way: atan(small / big), or pi/4 + atan((small - big) / (small + big))
-    // once the ratio passes tan(pi/8).
-    const bool shift = small > kTanPiOver8 * big;
-    const double t = shift ? (small - big) / (small + big) : small / big;
-    const double s = t * t;
-    double p = -0.027265716714484144;
-    p = p * s + 0.05171104301492307;
-    p = p * s - 0.06551544747143043;
-    p = p * s + 0.07681138474580866;
-    p = p * s - 0.09090263517299882;
-    p = p * s + 0.11111089982599119;
-    p = p * s - 0.14285713937600766;
-    p = p * s + 0.19999999997784587;
-    p = p * s - 0.3333333333333103;
-    double r = (shift ? kQuarterPi : 0.0) + (t + t * s * p);  // atan(small / big), in [0, pi/4]
-    if (swap) r = 2.0 * kQuarterPi - r;
-    if (x < 0.0) r = 4.0 * kQuarterPi - r;
+    double r = detail::atan_ratio(swap ? ax : ay, swap ? ay : ax);
+    r = swap ? kHalfPi - r : r;
+    r = x < 0.0 ? kPi - r : r;
     return y < 0.0 ? -r : r;
 }
 
-// Angle from +z and azimuth in [0, 2 pi) of a direction; atan2 keeps the polar angle accurate
-// near the pole, where acos loses half the digits.
-inline double polar(double x, double y, double z) { return table::atan2(std::sqrt(x * x + y * y), z); }
+// Angle from +z, in [0, pi], of a vector whose distance from the z axis is r >= 0: atan2(r, z),
+// which keeps the angle accurate near the pole, where acos loses half the digits.
+inline double polar_of(double r, double z) {
+    constexpr double kHalfPi = 1.5707963267948966, kPi = 3.141592653589793;
+    const double az = std::fabs(z);
+    const bool swap = r > az;
+    double a = detail::atan_ratio(swap ? az : r, swap ? r : az);
+    a = swap ? kHalfPi - a : a;
+    return z < 0.0 ? kPi - a : a;
+}
+
+// Angle from +z and azimuth in [0, 2 pi) of a direction.
+inline double polar(double x, double y, double z) { return polar_of(std::sqrt(x * x + y * y), z); }
 inline double azimuth(double x, double y) {
     const double phi = table::atan2(y, x);
     return phi < 0.0 ? phi + 2.0 * kPiD : phi;
