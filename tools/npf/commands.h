@@ -13,5 +13,7 @@ int run_synth(const std::vector<std::string>& args);
 int run_convert(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
 int run_display(const std::vector<std::string>& args);
+int run_render(const std::vector<std::string>& args);
+int run_compare(const std::vector<std::string>& args);
 
 }  // namespace npf::cli

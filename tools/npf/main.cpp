@@ -24,6 +24,8 @@ const Subcommand kSubcommands[] = {
     {"synth", npf::cli::run_synth, "write an RGL .bsdf file from an analytic material (recipe or flags)"},
     {"bench", npf::cli::run_bench, "time shading with an NPF texture (eval, sample, pdf) against its source"},
     {"display", npf::cli::run_display, "write a scene-linear or XYZ image as a display-encoded PNG (OpenColorIO)"},
+    {"render", npf::cli::run_render, "path-trace a material on the Sphere scene under an environment map"},
+    {"compare", npf::cli::run_compare, "PSNR, SSIM, relMSE and MAPE of a test image against a reference"},
 };
 
 void print_usage(std::FILE* to) {

@@ -1,0 +1,30 @@
+// Writing a render: a float RGBA OpenEXR file with what the values are and how they were made
+// in its header, written atomically (npf::AtomicOutput: never a half-written file).
+#pragma once
+
+#include <npf/render/path_tracer.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace npf::render {
+
+// Header attributes, in order: ("npf:material", path), ("npf:spp", "64"), ... Names without a
+// namespace prefix get "npf:".
+using RenderMetadata = std::vector<std::pair<std::string, std::string>>;
+
+// The attributes every render file carries: npf:values (what the pixels are), npf:scene,
+// npf:size, npf:spp, npf:seed, npf:channels ("rgb" or the wavelengths in nm), npf:sampling,
+// npf:threads, npf:render_seconds, npf:envmap (environment.source()), npf:envmap_size,
+// npf:envmap_clamped_values, and npf:dropped_values when some were dropped.
+// Callers add the material and anything else.
+RenderMetadata describe_render(const RenderResult& result, const RenderOptions& options,
+                               const EnvironmentMap& environment);
+
+// Writes result.image (premultiplied linear Rec.709 RGBA, 32-bit float, ZIP compression, the
+// Rec.709 chromaticities, DateTime) with `metadata` as string attributes. Throws npf::Error
+// naming `path`; on failure nothing is left at `path` or beside it.
+void write_render_exr(const std::string& path, const RenderResult& result, const RenderMetadata& metadata);
+
+}  // namespace npf::render

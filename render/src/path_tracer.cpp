@@ -1,0 +1,212 @@
+#include <npf/render/path_tracer.h>
+
+#include <npf/core/error.h>
+#include <npf/render/environment_spectra.h>
+#include <npf/render/render_channels.h>
+#include <npf/render/rng.h>
+#include <npf/render/sphere_scene.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace npf::render {
+
+namespace {
+
+// Dimension pairs of one camera sample (rng.h); fixed so that renders share random numbers.
+constexpr std::uint32_t kDimPixel = 0, kDimEnvironment = 1, kDimBrdf = 2;
+
+// Power heuristic weight of a strategy with density `a` against one with density `b`.
+double power_heuristic(double a, double b) {
+    if (!(a > 0.0)) return 0.0;
+    if (!(b > 0.0)) return 1.0;
+    const double r = b / a;
+    return 1.0 / (1.0 + r * r);
+}
+
+// Radiance of the environment in the render's channels: RGB texels as they are, or the
+// upsampled spectra at the quadrature nodes.
+class EnvironmentRadiance {
+public:
+    EnvironmentRadiance(const EnvironmentMap& map, const RenderChannels& rc, unsigned threads) : m_map(map) {
+        if (rc.spectral()) {
+            m_spectra = std::make_unique<EnvironmentSpectra>(map, threads);
+            const std::vector<float>& wl = rc.channels.wavelengths();
+            // Only nodes with a colour weight are looked up (those far outside 360..830 nm have none).
+            for (std::size_t k = 0; k < wl.size(); ++k) {
+                if (rc.to_rgb[0][k] != 0.0 || rc.to_rgb[1][k] != 0.0 || rc.to_rgb[2][k] != 0.0) {
+                    m_active.push_back(k);
+                    m_wavelengths.push_back(double(wl[k]));
+                }
+            }
+        }
+    }
+    // Writes the n values for `texel` (nodes without weight: 0); returns false when the texel is
+    // black.
+    bool eval(std::uint32_t texel, std::size_t n, float* out) const {
+        const float* rgb = m_map.radiance(texel);
+        if (!(rgb[0] > 0.f || rgb[1] > 0.f || rgb[2] > 0.f)) return false;
+        if (m_spectra) {
+            const color::RgbUnboundedSpectrum& s = m_spectra->spectrum(texel);
+            for (std::size_t k = 0; k < n; ++k) out[k] = 0.f;
+            for (std::size_t j = 0; j < m_active.size(); ++j) out[m_active[j]] = float(s(m_wavelengths[j]));
+        } else {
+            out[0] = rgb[0], out[1] = rgb[1], out[2] = rgb[2];
+        }
+        return true;
+    }
+
+private:
+    const EnvironmentMap& m_map;
+    std::unique_ptr<EnvironmentSpectra> m_spectra;
+    std::vector<std::size_t> m_active;   // nodes with a non-zero colour weight
+    std::vector<double> m_wavelengths;   // their wavelengths
+};
+
+}  // namespace
+
+void validate_render_options(const RenderOptions& o) {
+    const std::string src = "render options";
+    if (o.width < 1 || o.width > 16384) throw Error(src, "image width must be in 1..16384, got " + std::to_string(o.width));
+    if (o.height < 1 || o.height > 16384)
+        throw Error(src, "image height must be in 1..16384, got " + std::to_string(o.height));
+    if (o.spp < 1 || o.spp > (1u << 24)) throw Error(src, "samples per pixel must be in 1..16777216, got " + std::to_string(o.spp));
+    if (o.threads > 1024) throw Error(src, "at most 1024 threads");
+}
+
+RenderResult render(const Brdf& material, const EnvironmentMap& environment, const RenderOptions& options,
+                    const RenderProgress& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    validate_render_options(options);
+
+    const RenderChannels rc = choose_render_channels(material.info(), options.channels);
+    const ChannelQuery query = material.query(rc.channels);  // once per render, never per sample
+    const std::size_t n = query.size();
+
+    unsigned threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    threads = unsigned(std::min<std::size_t>(threads, options.height));
+
+    const EnvironmentRadiance radiance(environment, rc, threads);
+    const SphereScene scene(options.width, options.height);
+    const std::size_t width = options.width, height = options.height;
+    const std::uint32_t spp = options.spp;
+    const bool use_env = options.sampling != Sampling::Brdf, use_brdf = options.sampling != Sampling::Environment;
+
+    RenderResult result;
+    result.channels = rc.channels;
+    result.image.width = width;
+    result.image.height = height;
+    result.image.channels = 4;
+    result.image.pixels.assign(width * height * 4, 0.f);
+
+    std::atomic<std::size_t> next_row{0}, rows_done{0};
+    std::atomic<std::uint64_t> hits{0}, dropped{0};
+    std::mutex progress_mutex;
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+
+    auto worker = [&]() {
+        try {
+            std::vector<float> f(n), weight(n), env(n);
+            std::vector<double> acc(n);
+            std::uint64_t my_hits = 0, my_dropped = 0;
+            for (std::size_t y; (y = next_row.fetch_add(1)) < height;) {
+                for (std::size_t x = 0; x < width; ++x) {
+                    const std::uint64_t pixel = std::uint64_t(y) * width + x;
+                    const PixelSampler sampler(options.seed, pixel, spp);
+                    std::fill(acc.begin(), acc.end(), 0.0);
+                    std::uint32_t covered = 0;
+                    for (std::uint32_t s = 0; s < spp; ++s) {
+                        const Vec2 jitter = sampler.get_2d(s, kDimPixel);
+                        const Vec2 u_env = sampler.get_2d(s, kDimEnvironment);
+                        const Vec2 u_brdf = sampler.get_2d(s, kDimBrdf);
+                        const Ray ray = scene.camera_ray(float(x) + jitter.x, float(y) + jitter.y);
+                        SphereHit hit;
+                        if (!SphereScene::intersect(ray, hit)) continue;
+                        ++covered;
+                        const Vec3 wi = hit.frame.to_local(-ray.direction);
+                        if (!(wi.z > 0.f)) continue;  // grazing at the silhouette: black
+
+                        // Environment sample.
+                        EnvironmentSample es;
+                        if (use_env && environment.sample(u_env, es)) {
+                            const Vec3 wo = hit.frame.to_local(es.direction);
+                            if (wo.z > 0.f && radiance.eval(es.texel, n, env.data())) {
+                                material.eval_cos(wi, wo, query, f.data());
+                                const double mis = use_brdf ? power_heuristic(es.pdf, material.pdf(wi, wo)) : 1.0;
+                                const double w = mis / double(es.pdf);
+                                for (std::size_t k = 0; k < n; ++k) {
+                                    const double c = double(f[k]) * double(env[k]) * w;
+                                    if (std::isfinite(c)) acc[k] += c;
+                                    else ++my_dropped;
+                                }
+                            }
+                        }
+                        // BSDF sample.
+                        BrdfSample bs;
+                        if (use_brdf && material.sample(wi, u_brdf, query, bs, weight.data()) && bs.pdf > 0.f &&
+                            bs.wo.z > 0.f) {
+                            const Vec3 dir = normalize(hit.frame.to_world(bs.wo));
+                            const std::uint32_t texel = environment.texel(dir);
+                            if (radiance.eval(texel, n, env.data())) {
+                                const double w = use_env ? power_heuristic(bs.pdf, environment.pdf(dir, texel)) : 1.0;
+                                for (std::size_t k = 0; k < n; ++k) {
+                                    const double c = double(weight[k]) * double(env[k]) * w;
+                                    if (std::isfinite(c)) acc[k] += c;
+                                    else ++my_dropped;
+                                }
+                            }
+                        }
+                    }
+                    my_hits += covered;
+                    float* out = &result.image.pixels[pixel * 4];
+                    const double inv = 1.0 / double(spp);
+                    if (rc.spectral()) {
+                        for (int c = 0; c < 3; ++c) {
+                            const std::vector<double>& w = rc.to_rgb[std::size_t(c)];
+                            double v = 0.0;
+                            for (std::size_t k = 0; k < n; ++k) v += w[k] * acc[k];
+                            out[c] = float(v * inv);
+                        }
+                    } else {
+                        for (int c = 0; c < 3; ++c) out[c] = float(acc[std::size_t(c)] * inv);
+                    }
+                    out[3] = float(double(covered) * inv);
+                }
+                const std::size_t done = rows_done.fetch_add(1) + 1;
+                if (progress) {
+                    const std::lock_guard<std::mutex> lock(progress_mutex);
+                    progress(double(done) / double(height));
+                }
+            }
+            hits += my_hits;
+            dropped += my_dropped;
+        } catch (...) {
+            const std::lock_guard<std::mutex> lock(failure_mutex);
+            if (!failure) failure = std::current_exception();
+            next_row = height;  // the others stop after their current row
+        }
+    };
+
+    std::vector<std::thread> pool;
+    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+
+    result.stats.camera_samples = std::uint64_t(width) * height * spp;
+    result.stats.hit_samples = hits;
+    result.stats.dropped_values = dropped;
+    result.stats.threads = threads;
+    result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace npf::render

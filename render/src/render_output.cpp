@@ -1,0 +1,100 @@
+#include <npf/render/render_output.h>
+
+#include <npf/core/atomic_file.h>
+#include <npf/core/error.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
+#include <ctime>
+#include <memory>
+
+namespace npf::render {
+
+namespace {
+
+std::string first_line(const std::string& s) {
+    const std::size_t nl = s.find('\n');
+    return nl == std::string::npos ? s : s.substr(0, nl);
+}
+
+std::string number(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
+}
+
+std::string wavelengths_text(const Channels& c) {
+    if (c.is_rgb()) return "rgb";
+    std::string s;
+    for (float l : c.wavelengths()) s += (s.empty() ? "" : ",") + number(l);
+    return s;
+}
+
+}  // namespace
+
+RenderMetadata describe_render(const RenderResult& result, const RenderOptions& options,
+                               const EnvironmentMap& environment) {
+    const bool spectral = !result.channels.is_rgb();
+    RenderMetadata m;
+    m.emplace_back("npf:values",
+                   std::string("scene-linear Rec.709 RGB (sRGB primaries, D65 white), alpha premultiplied; ") +
+                       (spectral ? "rendered spectrally at the listed wavelengths, integrated against the CIE 1931 "
+                                   "2-degree observer to XYZ (environment upsampled to D65-based illuminant spectra, "
+                                   "RGB (1,1,1) = D65 at Y = 1), then to linear Rec.709"
+                                 : "rendered in RGB (material and environment linear Rec.709)"));
+    m.emplace_back("npf:scene", "sphere");
+    m.emplace_back("npf:size", std::to_string(options.width) + "x" + std::to_string(options.height));
+    m.emplace_back("npf:spp", std::to_string(options.spp));
+    m.emplace_back("npf:seed", std::to_string(options.seed));
+    m.emplace_back("npf:channels", wavelengths_text(result.channels));
+    m.emplace_back("npf:sampling", options.sampling == Sampling::Mis    ? "mis (environment + BSDF, power heuristic)"
+                                   : options.sampling == Sampling::Brdf ? "BSDF only"
+                                                                        : "environment only");
+    m.emplace_back("npf:threads", std::to_string(result.stats.threads));
+    m.emplace_back("npf:render_seconds", number(result.stats.seconds));
+    m.emplace_back("npf:envmap", environment.source());
+    m.emplace_back("npf:envmap_size", std::to_string(environment.width()) + "x" + std::to_string(environment.height()));
+    m.emplace_back("npf:envmap_clamped_values", std::to_string(environment.clamped_values()));
+    if (result.stats.dropped_values > 0)
+        m.emplace_back("npf:dropped_values", std::to_string(result.stats.dropped_values));
+    return m;
+}
+
+void write_render_exr(const std::string& path, const RenderResult& result, const RenderMetadata& metadata) {
+    const color::FloatImage& img = result.image;
+    if (img.channels != 4 || img.width == 0 || img.height == 0 ||
+        img.pixels.size() != img.width * img.height * 4)
+        throw Error(path, "not an RGBA render (size and pixel count disagree)");
+
+    OIIO::ImageSpec spec(int(img.width), int(img.height), 4, OIIO::TypeFloat);
+    spec.channelnames = {"R", "G", "B", "A"};
+    spec.alpha_channel = 3;
+    spec.attribute("compression", "zip");
+    spec.attribute("oiio:ColorSpace", "Linear");
+    // OpenEXR's chromaticities: Rec.709 primaries and the D65 white, x and y of R, G, B, W.
+    const float chroma[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
+    spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), chroma);
+    spec.attribute("Software", "npf render");
+    const std::time_t now = std::time(nullptr);
+    std::tm tm{};
+    localtime_r(&now, &tm);
+    char date[32];
+    std::strftime(date, sizeof date, "%Y:%m:%d %H:%M:%S", &tm);
+    spec.attribute("DateTime", date);
+    for (const auto& [name, value] : metadata)
+        spec.attribute(name.find(':') == std::string::npos ? "npf:" + name : name, value);
+
+    AtomicOutput atomic(path);
+    // The temporary name does not end in .exr, so the format is named explicitly.
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("openexr");
+    if (!out) throw Error(path, "this build of OpenImageIO cannot write OpenEXR: " + first_line(OIIO::geterror()));
+    if (!out->open(atomic.temporary_path(), spec)) throw Error(path, "cannot create output: " + first_line(out->geterror()));
+    if (!out->write_image(OIIO::TypeFloat, img.pixels.data()))
+        throw Error(path, "cannot write the pixels: " + first_line(out->geterror()));
+    if (!out->close()) throw Error(path, "cannot finish output: " + first_line(out->geterror()));
+    out.reset();
+    atomic.commit();
+}
+
+}  // namespace npf::render

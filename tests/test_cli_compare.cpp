@@ -1,0 +1,197 @@
+// End-to-end test of `npf compare`: the built tool on OpenEXR pairs with known answers (identical,
+// a constant offset, alpha coverage), its JSON output, the heatmap PNG, and the errors (status 1,
+// a message naming the file, nothing written).
+#include "run_tool.h"
+#include "synthetic_rgl.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using npf::testing::contains;
+using npf::testing::describe;
+using npf::testing::has_line;
+using npf::testing::ToolRun;
+
+void write_exr(const std::string& path, const std::vector<float>& pixels, int width, int height, int channels) {
+    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeFloat);
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out && out->open(path, spec) && out->write_image(OIIO::TypeFloat, pixels.data()) && out->close())
+        << OIIO::geterror();
+}
+
+std::string constant_exr(const std::string& dir, const std::string& name, float value, int width = 12, int height = 11) {
+    const std::string path = (fs::path(dir) / name).string();
+    write_exr(path, std::vector<float>(std::size_t(width * height * 3), value), width, height, 3);
+    return path;
+}
+
+// The number after "KEY " on its own line, or NaN.
+double line_value(const std::string& out, const std::string& key) {
+    for (const std::string& line : npf::testing::lines_of(out))
+        if (line.rfind(key + " ", 0) == 0) return std::strtod(line.c_str() + key.size() + 1, nullptr);
+    return std::nan("");
+}
+
+TEST(CliCompare, IdenticalImagesPrintInfAndPerfectScores) {
+    const std::string dir = npf::testing::temporary_folder("cli_compare");
+    const std::string a = constant_exr(dir, "a.exr", 0.3f), b = constant_exr(dir, "b.exr", 0.3f);
+    const ToolRun r = npf::testing::run_tool({"compare", a, b});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_EQ(r.err, "") << describe(r);
+    const std::vector<std::string> lines = npf::testing::lines_of(r.out);
+    ASSERT_GE(lines.size(), 4u) << describe(r);
+    EXPECT_EQ(lines[0], "PSNR inf");
+    EXPECT_EQ(lines[1], "SSIM 1");
+    EXPECT_EQ(lines[2], "relMSE 0");
+    EXPECT_EQ(lines[3], "MAPE 0");
+    EXPECT_TRUE(has_line(r.out, "pixels 132")) << describe(r);
+    EXPECT_TRUE(has_line(r.out, "pixels_total 132")) << describe(r);
+    EXPECT_TRUE(has_line(r.out, "ssim_pixels 2")) << describe(r);  // (12 - 10) x (11 - 10)
+
+    const ToolRun j = npf::testing::run_tool({"compare", a, b, "--json"});
+    ASSERT_EQ(j.status, 0) << describe(j);
+    EXPECT_EQ(npf::testing::lines_of(j.out).size(), 1u) << describe(j);
+    EXPECT_TRUE(contains(j.out, "\"PSNR\": \"inf\", \"SSIM\": 1, \"relMSE\": 0, \"MAPE\": 0, \"pixels\": 132"))
+        << describe(j);
+    EXPECT_EQ(j.out.front(), '{');
+    EXPECT_TRUE(contains(j.out, "\"reference\": \"" + a + "\"")) << describe(j);
+}
+
+TEST(CliCompare, ConstantOffsetAndScaleGiveHandComputedValues) {
+    const std::string dir = npf::testing::temporary_folder("cli_compare");
+    // 0.18 and 0.5: display values 0.461356129500 and 0.735356983052 (docs/metrics.md).
+    const std::string ref = constant_exr(dir, "ref.exr", 0.18f), test = constant_exr(dir, "test.exr", 0.5f);
+    const ToolRun r = npf::testing::run_tool({"compare", ref, test});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_NEAR(line_value(r.out, "PSNR"), 11.2449616857565, 1e-5) << describe(r);
+    EXPECT_NEAR(line_value(r.out, "SSIM"), 0.9003893718627382, 1e-7) << describe(r);
+    EXPECT_NEAR(line_value(r.out, "relMSE"), 0.32 * 0.32 / (0.18 * 0.18 + 0.01), 1e-6) << describe(r);
+    EXPECT_NEAR(line_value(r.out, "MAPE"), 0.32 / 0.19, 1e-6) << describe(r);
+
+    const ToolRun j = npf::testing::run_tool({"compare", ref, test, "--json"});
+    ASSERT_EQ(j.status, 0) << describe(j);
+    const std::size_t at = j.out.find("\"PSNR\": ");
+    ASSERT_NE(at, std::string::npos) << describe(j);
+    EXPECT_NEAR(std::strtod(j.out.c_str() + at + 8, nullptr), 11.2449616857565, 1e-5) << describe(j);
+}
+
+TEST(CliCompare, AlphaCoverageAndHeatmap) {
+    const std::string dir = npf::testing::temporary_folder("cli_compare");
+    // 12 x 12 RGBA. Columns 0..5 covered in both, 0.5, except pixel (2, 5) which is 1.5 in the
+    // test; columns 6..11 alpha 0 in both, 0 in the reference and a stray 0.7 in the test (left
+    // out unless --all-pixels).
+    std::vector<float> ref_px, test_px;
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 12; ++x) {
+            const bool covered = x < 6;
+            const float r = covered ? 0.5f : 0.f, t = covered ? (x == 2 && y == 5 ? 1.5f : 0.5f) : 0.7f;
+            const float a = covered ? 1.f : 0.f;
+            ref_px.insert(ref_px.end(), {r, r, r, a});
+            test_px.insert(test_px.end(), {t, t, t, a});
+        }
+    const std::string ref = (fs::path(dir) / "ref.exr").string(), test = (fs::path(dir) / "test.exr").string();
+    write_exr(ref, ref_px, 12, 12, 4);
+    write_exr(test, test_px, 12, 12, 4);
+    const std::string png = (fs::path(dir) / "heat.png").string();
+    const ToolRun r = npf::testing::run_tool({"compare", ref, test, "--heatmap", png});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_TRUE(has_line(r.out, "pixels 72")) << describe(r);
+    EXPECT_TRUE(has_line(r.out, "pixels_total 144")) << describe(r);
+    EXPECT_NEAR(line_value(r.out, "relMSE"), 1.0 / 0.26 / 72.0, 1e-7) << describe(r);  // 1^2 / (0.25 + 0.01) once
+
+    auto pixel = [](const std::vector<unsigned char>& px, int x, int y) {
+        const std::size_t i = std::size_t(y * 12 + x) * 3;
+        return std::vector<unsigned char>(px.begin() + long(i), px.begin() + long(i) + 3);
+    };
+    auto in = OIIO::ImageInput::open(png);
+    ASSERT_TRUE(in) << OIIO::geterror();
+    ASSERT_EQ(in->spec().nchannels, 3);
+    std::vector<unsigned char> px(12 * 12 * 3);
+    ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeUInt8, px.data()));
+    EXPECT_EQ(pixel(px, 0, 0), (std::vector<unsigned char>{0, 0, 255}));  // relMSE 0: blue
+    EXPECT_EQ(pixel(px, 2, 5), (std::vector<unsigned char>{255, 0, 0}));  // 3.85: red
+    EXPECT_EQ(pixel(px, 8, 3), (std::vector<unsigned char>{0, 0, 0}));    // not compared: black
+
+    // Every pixel: the stray 0.7 counts (0.49 / 0.01 = 49 each), and a heatmap scale of 2 / 0.26
+    // shows the odd pixel's 1 / 0.26 halfway: green.
+    const ToolRun all = npf::testing::run_tool(
+        {"compare", ref, test, "--all-pixels", "--json", "--heatmap", png, "--heatmap-max", "7.6923"});
+    ASSERT_EQ(all.status, 0) << describe(all);
+    EXPECT_TRUE(contains(all.out, "\"pixels\": 144, \"pixels_total\": 144, \"ssim_pixels\": 4, \"coverage\": \"all\""))
+        << describe(all);
+    auto again = OIIO::ImageInput::open(png);
+    ASSERT_TRUE(again) << OIIO::geterror();
+    ASSERT_TRUE(again->read_image(0, 0, 0, 3, OIIO::TypeUInt8, px.data()));
+    EXPECT_EQ(pixel(px, 2, 5), (std::vector<unsigned char>{0, 255, 0}));
+    EXPECT_EQ(pixel(px, 8, 3), (std::vector<unsigned char>{255, 0, 0}));
+    EXPECT_EQ(pixel(px, 0, 0), (std::vector<unsigned char>{0, 0, 255}));
+}
+
+TEST(CliCompare, ErrorsNameTheFile) {
+    const std::string dir = npf::testing::temporary_folder("cli_compare");
+    const std::string ref = constant_exr(dir, "ref.exr", 0.2f), small = constant_exr(dir, "small.exr", 0.2f, 4, 4);
+    const std::string heat = (fs::path(dir) / "heat.png").string();
+
+    ToolRun r = npf::testing::run_tool({"compare", ref, small, "--heatmap", heat});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, "npf compare: error: " + small + ": is 4 x 4 but the reference " + ref + " is 12 x 11"))
+        << describe(r);
+    EXPECT_EQ(r.out, "");
+
+    const std::string missing = (fs::path(dir) / "missing.exr").string();
+    r = npf::testing::run_tool({"compare", missing, ref});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, "npf compare: error: " + missing + ": ")) << describe(r);
+
+    const std::string nan = (fs::path(dir) / "nan.exr").string();
+    std::vector<float> px(12 * 11 * 3, 0.2f);
+    px[(1 * 12 + 2) * 3 + 2] = std::nanf("");
+    write_exr(nan, px, 12, 11, 3);
+    r = npf::testing::run_tool({"compare", ref, nan});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, "npf compare: error: " + nan + ": pixel (2, 1) channel B is NaN")) << describe(r);
+
+    const std::string rgba = (fs::path(dir) / "rgba.exr").string();
+    write_exr(rgba, std::vector<float>(12 * 11 * 4, 1.f), 12, 11, 4);
+    r = npf::testing::run_tool({"compare", ref, rgba});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, rgba + ": has 4 channels")) << describe(r);
+
+    r = npf::testing::run_tool({"compare", ref, ref, "--heatmap-max", "0"});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, "--heatmap-max")) << describe(r);
+    r = npf::testing::run_tool({"compare", ref, ref, "--from", "aces"});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, "--from")) << describe(r);
+
+    const std::string nowhere = (fs::path(dir) / "no_such_folder" / "heat.png").string();
+    r = npf::testing::run_tool({"compare", ref, ref, "--heatmap", nowhere});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, nowhere)) << describe(r);
+
+    EXPECT_FALSE(fs::exists(heat));
+    for (const std::string& name : npf::testing::folder_entries(dir)) EXPECT_FALSE(contains(name, ".tmp")) << name;
+}
+
+TEST(CliCompare, HelpAndUsage) {
+    const ToolRun help = npf::testing::run_tool({"compare", "--help"});
+    EXPECT_EQ(help.status, 0) << describe(help);
+    EXPECT_TRUE(contains(help.out, "usage: npf compare REF.exr TEST.exr")) << describe(help);
+    EXPECT_TRUE(contains(help.out, "--heatmap")) << describe(help);
+    const ToolRun one = npf::testing::run_tool({"compare", "only.exr"});
+    EXPECT_EQ(one.status, 2) << describe(one);
+    const ToolRun bad = npf::testing::run_tool({"compare", "a.exr", "b.exr", "--psnr-peak", "2"});
+    EXPECT_EQ(bad.status, 1) << describe(bad);
+    EXPECT_TRUE(contains(bad.err, "unknown option '--psnr-peak'")) << describe(bad);
+}
+
+}  // namespace
