@@ -15,5 +15,6 @@ int run_bench(const std::vector<std::string>& args);
 int run_display(const std::vector<std::string>& args);
 int run_render(const std::vector<std::string>& args);
 int run_compare(const std::vector<std::string>& args);
+int run_edit(const std::vector<std::string>& args);
 
 }  // namespace npf::cli

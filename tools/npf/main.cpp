@@ -26,6 +26,7 @@ const Subcommand kSubcommands[] = {
     {"display", npf::cli::run_display, "write a scene-linear or XYZ image as a display-encoded PNG (OpenColorIO)"},
     {"render", npf::cli::run_render, "path-trace a material on the Sphere scene under an environment map"},
     {"compare", npf::cli::run_compare, "PSNR, SSIM, relMSE and MAPE of a test image against a reference"},
+    {"edit", npf::cli::run_edit, "edit a fitted material: NDF transforms, diffuse/specular colour, thin-film Fresnel"},
 };
 
 void print_usage(std::FILE* to) {
