@@ -1,4 +1,5 @@
 #include <npf/edit/recipe.h>
+#include <npf/edit/compression.h>
 
 #include <npf/edit/colour_edits.h>
 #include <npf/shading/npf_texture_file.h>
@@ -159,7 +160,7 @@ FilmBase parse_base(const Context& cx, const YAML::Node& node) {
 EditStep parse_step(const Context& cx, const YAML::Node& node) {
     if (!node.IsMap() || node.size() != 1) {
         cx.fail(node, "steps", "each step is a mapping with one key: matrix, stretch, rotate, roughness, sharpen, blur, "
-                               "diffuse, specular or thin_film");
+                               "diffuse, specular, thin_film or compress");
     }
     const auto kv = *node.begin();
     const std::string kind = kv.first.Scalar();
@@ -255,10 +256,30 @@ EditStep parse_step(const Context& cx, const YAML::Node& node) {
         const std::string label = "thin film " + detail::num(f.thickness_nm) + " nm, index " +
                                   (v["film_ior"].IsScalar() ? v["film_ior"].Scalar() : std::string("(spectrum)"));
         s = EditStep::thin_film(f, label);
+    } else if (kind == "compress") {
+        cx.only(v, kind, {"rank", "pca"});
+        if (bool(v["rank"]) == bool(v["pca"])) cx.fail(v, kind, "give exactly one of rank: [D, G] or pca: [D, G]");
+        const bool by_rank = bool(v["rank"]);
+        const YAML::Node pair = by_rank ? v["rank"] : v["pca"];
+        const char* key = by_rank ? "rank" : "pca";
+        if (!pair.IsSequence() || pair.size() != 2) cx.fail(pair, key, "expected two values: [D, G]");
+        const double a = cx.number(pair[0], key), b = cx.number(pair[1], key);
+        CompressionOptions o;
+        if (by_rank) {
+            if (!(a >= 1.0 && b >= 1.0 && a == std::floor(a) && b == std::floor(b))) cx.fail(pair, key, "ranks are whole numbers >= 1");
+            o.d_rank = int(a);
+            o.g_rank = int(b);
+        } else {
+            if (!(a > 0.0 && a <= 1.0 && b > 0.0 && b <= 1.0)) cx.fail(pair, key, "ratios are in (0, 1]");
+            o.d_ratio = a;
+            o.g_ratio = b;
+        }
+        s = EditStep::compress(o, std::string("compress D, G ") + (by_rank ? "to ranks " : "to PCA ratios ") +
+                                      detail::num(a) + ", " + detail::num(b));
     } else {
         cx.fail(kv.first, kind,
                 "unknown step (expected one of: matrix, stretch, rotate, roughness, sharpen, blur, diffuse, specular, "
-                "thin_film)");
+                "thin_film, compress)");
     }
     s.origin = cx.where(kv.first);
     return s;
@@ -347,6 +368,14 @@ EditStep EditStep::thin_film(ThinFilm film, std::string label) {
     EditStep s;
     s.kind = Kind::ThinFilm;
     s.film = std::move(film);
+    s.label = std::move(label);
+    return s;
+}
+
+EditStep EditStep::compress(const CompressionOptions& options, std::string label) {
+    EditStep s;
+    s.kind = Kind::Compress;
+    s.compression = options;
     s.label = std::move(label);
     return s;
 }
@@ -485,6 +514,9 @@ EditResult apply_edits(const NpfModel& model, const std::vector<EditStep>& steps
                 break;
             case EditStep::Kind::ThinFilm:
                 r.model = apply_thin_film(r.model, s.film, &rec);
+                break;
+            case EditStep::Kind::Compress:
+                r.model = compress_model(r.model, s.compression, &rec);
                 break;
             }
         } catch (const Error& e) {

@@ -40,6 +40,8 @@ const std::vector<FlagSpec> kFlags = {
     {"--thin-film", true, "thin film THICKNESS_NM,FILM_IOR on the material (Airy reflectance)"},
     {"--film-base", true, "for --thin-film: fitted (default; from the material's F), ETA, ETA,K or a metal (Ag, Al, Au, Cr, Cu)"},
     {"--film-mode", true, "for --thin-film: ratio (default; keeps the measured F's shape) or replace"},
+    {"--compress-rank", true, "re-compress D and G across wavelengths to ranks D,G (no refit; from a lossless file as convert --rank)"},
+    {"--compress-pca", true, "re-compress D and G to the smallest ranks keeping PCA ratios D,G (e.g. 0.99,0.95)"},
     {"--phi-cells", true, "azimuth cells of D and G when an isotropic material becomes anisotropic (default 2 x theta)"},
     {"--svd", true, "rank (default: keep the input's SVD ranks) or ratio (the input's kept ratio)"},
     {"--albedo-tolerance", true, "warn when the directional albedo exceeds 1 + this (default 0.005)"},
@@ -52,7 +54,7 @@ const std::vector<FlagSpec> kFlags = {
 const std::set<std::string> kStepFlags = {"--matrix", "--stretch-tangent", "--stretch-bitangent", "--rotate",
                                           "--roughness", "--sharpen", "--blur", "--diffuse-from",
                                           "--diffuse-srgb", "--diffuse-linear", "--diffuse-spectrum",
-                                          "--specular-from", "--thin-film"};
+                                          "--specular-from", "--thin-film", "--compress-rank", "--compress-pca"};
 
 double number(const std::string& flag, const std::string& v) {
     char* end = nullptr;
@@ -163,6 +165,21 @@ edit::EditStep step_from_flag(const std::string& flag, const std::string& v, con
         f.base = base;
         f.mode = mode;
         s = EditStep::thin_film(f, "thin film " + fmt(p[0]) + " nm, index " + fmt(p[1]));
+    } else if (flag == "--compress-rank" || flag == "--compress-pca") {
+        const std::vector<double> p = numbers(flag, v, 2);
+        CompressionOptions o;
+        if (flag == "--compress-rank") {
+            if (!(p[0] >= 1.0 && p[1] >= 1.0 && p[0] == std::floor(p[0]) && p[1] == std::floor(p[1]))) {
+                throw Error(flag, "ranks are whole numbers >= 1");
+            }
+            o.d_rank = int(p[0]);
+            o.g_rank = int(p[1]);
+        } else {
+            if (!(p[0] > 0.0 && p[0] <= 1.0 && p[1] > 0.0 && p[1] <= 1.0)) throw Error(flag, "ratios are in (0, 1]");
+            o.d_ratio = p[0];
+            o.g_ratio = p[1];
+        }
+        s = EditStep::compress(o, std::string("compress D, G to ") + (flag == "--compress-rank" ? "ranks " : "PCA ratios ") + v);
     }
     s.origin = flag;
     return s;

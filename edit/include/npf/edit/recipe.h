@@ -12,12 +12,14 @@
 //                                             #    {spectrum: file.spd | [[nm, v], ...]}
 //     - specular: {from: gold.exr, keep_brightness: true}
 //     - thin_film: {thickness: 615, film_ior: 1.3, base: fitted, mode: ratio}
+//     - compress: {rank: [8, 6]}               # or {pca: [0.99, 0.95]}: D, G re-compressed
 //   options: {phi_cells: 180, svd: rank, albedo_tolerance: 0.005}
 //
 // Paths are relative to the recipe's folder. Errors name "recipe.yaml:LINE" and the key.
 #pragma once
 
 #include <npf/color/spectrum.h>
+#include <npf/converter/fit/spectral_compression.h>
 #include <npf/edit/albedo.h>
 #include <npf/edit/edit_record.h>
 #include <npf/edit/ndf_transform.h>
@@ -38,6 +40,7 @@ struct EditStep {
         DiffuseRgb,       // linear sRGB albedo
         SpecularMaterial, // rho_s F of the NPF file `path`, times scale
         ThinFilm,
+        Compress,         // D and G re-compressed (compression.h)
     };
     Kind kind = Kind::Ndf;
     std::string label;   // what the user asked, for the history ("stretch tangent 2, bitangent 1")
@@ -49,6 +52,7 @@ struct EditStep {
     color::SampledSpectrum spectrum;
     color::Rgb rgb{0, 0, 0};
     ThinFilm film;
+    CompressionOptions compression;
 
     static EditStep ndf(const Mat3& m, std::string label);
     static EditStep diffuse_from(std::string path, double scale = 1.0);
@@ -56,6 +60,7 @@ struct EditStep {
     static EditStep diffuse_albedo(const color::Rgb& linear, std::string label);
     static EditStep specular_from(std::string path, double scale = 1.0, bool keep_brightness = false);
     static EditStep thin_film(ThinFilm film, std::string label);
+    static EditStep compress(const CompressionOptions& options, std::string label);
 };
 
 struct EditOptions {
