@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job on the shipped default (README, first line): installs what is missing, builds,
-# converts the shipped measured material to an NPF factor texture (out/), and compares the
-# measured and the fitted material at the probe directions.
+# converts the shipped measured material to an NPF factor texture (out/), compares the measured
+# and the fitted material at the probe directions, times shading, and renders both on the
+# Sphere scene and compares the pictures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -23,3 +24,8 @@ echo "and through OpenImageIO's TextureSystem (the shading module's texture path
 build/tools/npf/npf eval out/ilm_l3_37_metallic.exr --dirs data/materials/probe_dirs.txt --path texture
 echo
 build/tools/npf/npf bench out/ilm_l3_37_metallic.exr --against "$material" --seconds 0.3
+echo
+echo "Sphere renders under the shipped studio map (out/*.png), measured against fitted:"
+build/tools/npf/npf render "$material" -o out/ilm_measured.exr --png out/ilm_measured.png --spp 64 --seed 1 --quiet
+build/tools/npf/npf render out/ilm_l3_37_metallic.exr -o out/ilm_fitted.exr --png out/ilm_fitted.png --spp 64 --seed 1 --quiet
+build/tools/npf/npf compare out/ilm_measured.exr out/ilm_fitted.exr --heatmap out/ilm_relmse.png
