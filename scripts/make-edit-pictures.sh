@@ -14,10 +14,10 @@ out=docs/results
 font=/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf
 mkdir -p "$work" "$out"
 
-material() {  # name -> fitted NPF file (41 wavelengths, production)
+material() {  # name -> fitted NPF file: make-results.py's production fit, else a preview fit
   local reuse=build/results-work/$1.ours.npf.exr
   if [ -f "$reuse" ]; then echo "$reuse"; return; fi
-  [ -f "$work/$1.exr" ] || $npf convert "configs/materials/$1.yaml" -o "$work/$1.exr" --preset production \
+  [ -f "$work/$1.exr" ] || $npf convert "configs/materials/$1.yaml" -o "$work/$1.exr" --preset preview \
       --max-wavelengths 41 --quiet >&2
   echo "$work/$1.exr"
 }
@@ -35,7 +35,7 @@ strip() {  # out.png then pairs of (file.png label)
   while [ $# -gt 0 ]; do
     args+=("$1" --ch R,G,B --text:x=6:y=18:size=14:color=1,1,1:font=$font "$2"); shift 2
   done
-  local n=$(( ${#args[@]} / 4 ))
+  local n=$(( ${#args[@]} / 5 ))
   oiiotool "${args[@]}" --mosaic "${n}x1" -d uint8 -o "$dest.tmp.png"
   mv "$dest.tmp.png" "$dest"
   echo "wrote $dest"
