@@ -278,9 +278,7 @@ def main():
     trade = []
     settings = [("preview", ["--preset", "preview"]), ("production", ["--preset", "production"])]
     if not args.quick:
-        settings += [("production, grid 45", ["--preset", "production", "--grid", "45,1,45,1", "--g-grid", "45,1"]),
-                     ("production, grid 180", ["--preset", "production", "--grid", "180,1,180,1", "--g-grid", "180,1"]),
-                     ("paper", ["--preset", "paper"])]
+        settings += [("paper", ["--preset", "paper"])]
     for label, extra in settings:
         tag = "trade-" + label.replace(", ", "-").replace(" ", "")
         fitted, seconds = r.convert(trade_material, tag, extra)
