@@ -16,5 +16,6 @@ int run_display(const std::vector<std::string>& args);
 int run_render(const std::vector<std::string>& args);
 int run_compare(const std::vector<std::string>& args);
 int run_edit(const std::vector<std::string>& args);
+int run_batch(const std::vector<std::string>& args);
 
 }  // namespace npf::cli

@@ -27,6 +27,7 @@ const Subcommand kSubcommands[] = {
     {"render", npf::cli::run_render, "path-trace a material on the Sphere scene under an environment map"},
     {"compare", npf::cli::run_compare, "PSNR, SSIM, relMSE and MAPE of a test image against a reference"},
     {"edit", npf::cli::run_edit, "edit a fitted material: NDF transforms, diffuse/specular colour, thin-film Fresnel"},
+    {"batch", npf::cli::run_batch, "convert a material library from a YAML batch: resumable, shardable, failure-isolated"},
 };
 
 void print_usage(std::FILE* to) {

@@ -1,0 +1,54 @@
+// Running a batch: every material of a shard, each converted (fit, compress, optional edits),
+// written atomically with its content hash in its metadata, optionally rendered and compared
+// with its input; unchanged materials are skipped; a failing material is reported and the
+// others go on (docs/batch.md).
+#pragma once
+
+#include <npf/batch/config.h>
+#include <npf/batch/summary.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace npf::batch {
+
+// Version of the content hash's recipe: bumped whenever the converter's output for the same
+// inputs and settings changes without a change of the npf version, so that outputs redo.
+inline constexpr int kContentHashVersion = 1;
+
+struct Shard {
+    int index = 0, count = 1;  // 0 <= index < count
+};
+// "K/N" (0 <= K < N <= 100000). Throws npf::Error naming `what`.
+Shard parse_shard(const std::string& text, const std::string& what = "--shard");
+// The materials (indices into a name-sorted list of `count`) of shard K of N: the indices i with
+// i mod N == K. Deterministic, disjoint, and together all of them.
+std::vector<std::size_t> shard_members(std::size_t count, const Shard& shard);
+
+struct BatchOptions {
+    Shard shard;
+    bool force = false;    // redo every material whatever its hash says
+    int threads = 0;       // > 0: overrides every material's `threads`
+    // One line per event ("[2/7] felt: converted in 1.2 s ..."); none when empty.
+    std::function<void(const std::string&)> log;
+};
+
+// The hash a material's output carries (metadata `batch_hash`): SHA-256 of the hash version,
+// the npf version and texture format version, the input file's SHA-256, the settings resolved
+// for the source (every field of ConvertSettings but the thread count), and the edit recipe's
+// SHA-256 with those of the files it names. `source_isotropic` is the opened source's.
+std::string material_hash(const MaterialJob& job, bool source_isotropic);
+
+// Runs the shard's materials in name order. Temporaries live in <output_dir>/.npf-batch/
+// shard-K-of-N/ (cleared when a run of that shard starts; a lock file stops two runs of one
+// shard at once); outputs appear under their names only when whole (a rename). Throws
+// npf::Error only when the batch cannot run at all (output folder, lock); a material's failure
+// is in its result.
+BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options);
+
+// The summary's default base name (without .json/.md): config.summary, or
+// <output_dir>/batch-summary; "<base>.shard-K-of-N" for shard K of N > 1.
+std::string summary_base(const BatchConfig& config, const Shard& shard);
+
+}  // namespace npf::batch

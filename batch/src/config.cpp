@@ -1,0 +1,468 @@
+// Batch configuration: parsing, checking and the settings -> ConvertSettings mapping.
+#include <npf/batch/config.h>
+
+#include <npf/core/channels.h>
+#include <npf/core/error.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <glob.h>
+#include <set>
+#include <sstream>
+
+namespace npf::batch {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// ---- values: text -> checked value (shared by parsing and resolving) -------------------------
+
+[[noreturn]] void bad(const std::string& origin, const std::string& key, const std::string& problem) {
+    throw Error(origin, "key '" + key + "': " + problem);
+}
+
+long whole(const std::string& origin, const std::string& key, const std::string& v, long lo, long hi) {
+    errno = 0;
+    char* end = nullptr;
+    const long n = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || errno == ERANGE || n < lo || n > hi) {
+        bad(origin, key, "needs a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + v + "'");
+    }
+    return n;
+}
+
+double number(const std::string& origin, const std::string& key, const std::string& v) {
+    char* end = nullptr;
+    const double d = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !std::isfinite(d)) bad(origin, key, "'" + v + "' is not a number");
+    return d;
+}
+
+std::vector<std::string> split(const std::string& v, char sep) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t at = v.find(sep, start);
+        out.push_back(v.substr(start, at == std::string::npos ? std::string::npos : at - start));
+        if (at == std::string::npos) return out;
+        start = at + 1;
+    }
+}
+
+std::vector<std::string> parts(const std::string& origin, const std::string& key, const std::string& v, std::size_t n) {
+    std::vector<std::string> p = split(v, ',');
+    if (p.size() != n) bad(origin, key, "expects " + std::to_string(n) + " values, got '" + v + "'");
+    return p;
+}
+
+bool boolean(const std::string& origin, const std::string& key, const std::string& v) {
+    if (v == "true") return true;
+    if (v == "false") return false;
+    bad(origin, key, "expects true or false, got '" + v + "'");
+}
+
+void one_of(const std::string& origin, const std::string& key, const std::string& v, std::initializer_list<const char*> allowed) {
+    std::string list;
+    for (const char* a : allowed) {
+        if (v == a) return;
+        list += std::string(list.empty() ? "" : ", ") + a;
+    }
+    bad(origin, key, "'" + v + "' is not one of " + list);
+}
+
+// Checks a value of setting `setting` as resolve_convert_settings and resolve_render_check will
+// read it; errors call it `key` (the name as written: "defaults.preset").
+void check_value(const std::string& origin, const std::string& key, const std::string& setting, const std::string& v) {
+    const std::string& k = setting;
+    if (k == "preset") one_of(origin, key, v, {"preview", "production", "paper"});
+    else if (k == "wavelengths") {
+        if (v != "rgb") {
+            try {
+                parse_wavelength_list(v, "wavelengths");
+            } catch (const Error& e) {
+                bad(origin, key, e.what());
+            }
+        }
+    } else if (k == "max_wavelengths") whole(origin, key, v, 0, 100000);
+    else if (k == "isotropy") one_of(origin, key, v, {"auto", "isotropic", "anisotropic"});
+    else if (k == "grid") {
+        const auto p = parts(origin, key, v, 4);
+        whole(origin, key, p[0], 2, 4096), whole(origin, key, p[1], 1, 4096), whole(origin, key, p[2], 2, 4096),
+            whole(origin, key, p[3], 2, 4096);
+    } else if (k == "g_grid") {
+        const auto p = parts(origin, key, v, 2);
+        whole(origin, key, p[0], 2, 4096), whole(origin, key, p[1], 1, 4096);
+    } else if (k == "phi_d_samples") whole(origin, key, v, 0, 4096);
+    else if (k == "pca") {
+        for (const std::string& p : parts(origin, key, v, 2)) {
+            const double r = number(origin, key, p);
+            if (!(r > 0.0 && r <= 1.0)) bad(origin, key, "ratios must lie in (0, 1]");
+        }
+    } else if (k == "rank") {
+        for (const std::string& p : parts(origin, key, v, 2)) whole(origin, key, p, 1, 100000);
+    } else if (k == "importance" || k == "compressive") number(origin, key, v);
+    else if (k == "epsilon") {
+        if (!(number(origin, key, v) > 0.0)) bad(origin, key, "must be positive");
+    } else if (k == "volume_weight") one_of(origin, key, v, {"paper", "three-angle"});
+    else if (k == "iterations") whole(origin, key, v, 1, 100000);
+    else if (k == "tolerance") {
+        if (!(number(origin, key, v) >= 0.0)) bad(origin, key, "must not be negative");
+    } else if (k == "g_prior") one_of(origin, key, v, {"smith", "smith-start", "bounded", "free"});
+    else if (k == "plain" || k == "render") boolean(origin, key, v);
+    else if (k == "error_pairs") whole(origin, key, v, 0, 100000000);
+    else if (k == "threads" || k == "render.threads") whole(origin, key, v, 1, 1024);
+    else if (k == "render.size") whole(origin, key, v, 16, 4096);
+    else if (k == "render.spp") whole(origin, key, v, 1, 1 << 20);
+    else if (k == "render.seed") whole(origin, key, v, 0, 2147483647);
+    // edit and render.env are paths, checked when used.
+}
+
+// ---- YAML reading ---------------------------------------------------------------------------
+
+struct Reader {
+    std::string source, base_dir;
+
+    std::string where(const YAML::Node& node) const {
+        const YAML::Mark mark = node.Mark();
+        return mark.line >= 0 ? source + ":" + std::to_string(mark.line + 1) : source;
+    }
+    [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const {
+        throw Error(where(node), (key.empty() ? "" : "key '" + key + "': ") + problem);
+    }
+    std::string scalar(const YAML::Node& node, const std::string& key) const {
+        if (!node.IsScalar()) fail(node, key, "expected a single value");
+        return node.Scalar();
+    }
+    std::string path(const YAML::Node& node, const std::string& key) const {
+        const std::string p = scalar(node, key);
+        if (p.empty()) fail(node, key, "empty path");
+        if (p.find('\0') != std::string::npos) fail(node, key, "path holds a NUL byte");
+        return absolute(p);
+    }
+    std::string absolute(const std::string& p) const {
+        const fs::path q(p);
+        return (q.is_absolute() ? q : fs::path(base_dir) / q).lexically_normal().string();
+    }
+    // A scalar or a sequence of scalars joined by commas ("[90, 1, 90, 180]" -> "90,1,90,180").
+    std::string list(const YAML::Node& node, const std::string& key) const {
+        if (node.IsScalar()) {
+            std::string v = node.Scalar();
+            v.erase(std::remove(v.begin(), v.end(), ' '), v.end());
+            return v;
+        }
+        if (!node.IsSequence() || node.size() == 0) fail(node, key, "expected a value or a list of values");
+        std::string out;
+        for (const YAML::Node& item : node) out += (out.empty() ? "" : ",") + scalar(item, key);
+        return out;
+    }
+    // The mapping's keys must be in `allowed`, each once, none without a value.
+    void only(const YAML::Node& map, const std::string& key, const std::vector<std::string>& allowed) const {
+        if (!map.IsMap()) fail(map, key, "expected a mapping");
+        std::set<std::string> seen;
+        for (const auto& kv : map) {
+            if (!kv.first.IsScalar()) fail(kv.first, key, "keys must be plain names");
+            const std::string k = kv.first.Scalar();
+            if (std::find(allowed.begin(), allowed.end(), k) == allowed.end()) {
+                std::string names;
+                for (const std::string& a : allowed) names += (names.empty() ? "" : ", ") + a;
+                fail(kv.first, (key.empty() ? "" : key + ".") + k, "unknown key (expected one of: " + names + ")");
+            }
+            if (!seen.insert(k).second) fail(kv.first, k, "given twice");
+            if (kv.second.IsNull()) fail(kv.first, k, "has no value");
+        }
+    }
+
+    // Settings of a `defaults` or `materials.NAME` mapping (other keys are left to the caller).
+    void settings(const YAML::Node& map, const std::string& prefix, Settings& out) const {
+        for (const auto& kv : map) {
+            const std::string k = kv.first.Scalar();
+            if (k == "input" || k == "skip") continue;
+            const std::string origin = where(kv.first);
+            const std::string full = prefix + k;
+            if (k == "edit") {
+                const YAML::Node& v = kv.second;
+                if (v.IsScalar() && (v.Scalar() == "false" || v.Scalar() == "none")) out[k] = {"", origin};
+                else out[k] = {path(v, full), origin};
+            } else if (k == "render") {
+                const YAML::Node& v = kv.second;
+                if (v.IsScalar()) {
+                    check_value(origin, full, "render", v.Scalar());
+                    out[k] = {v.Scalar(), origin};
+                    continue;
+                }
+                only(v, full, {"size", "spp", "seed", "env", "threads"});
+                out[k] = {"true", origin};
+                for (const auto& r : v) {
+                    const std::string rk = r.first.Scalar(), name = "render." + rk;
+                    const std::string ro = where(r.first);
+                    if (rk == "env") {
+                        out[name] = {path(r.second, full + "." + rk), ro};
+                    } else {
+                        const std::string value = scalar(r.second, full + "." + rk);
+                        check_value(ro, full + "." + rk, name, value);
+                        out[name] = {value, ro};
+                    }
+                }
+            } else {
+                const std::string value = (k == "grid" || k == "g_grid" || k == "pca" || k == "rank") ? list(kv.second, full)
+                                                                                                    : scalar(kv.second, full);
+                check_value(origin, full, k, value);
+                out[k] = {value, origin};
+            }
+        }
+    }
+};
+
+bool has_wildcard(const std::string& p) { return p.find_first_of("*?[") != std::string::npos; }
+
+std::vector<std::string> expand_glob(const std::string& pattern) {
+    glob_t g{};
+    std::vector<std::string> out;
+    if (::glob(pattern.c_str(), 0, nullptr, &g) == 0) {
+        for (std::size_t i = 0; i < g.gl_pathc; ++i) {
+            std::error_code ec;
+            if (fs::is_regular_file(g.gl_pathv[i], ec)) out.emplace_back(g.gl_pathv[i]);
+        }
+    }
+    ::globfree(&g);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+std::string stem_of(const std::string& path) { return fs::path(path).stem().string(); }
+
+std::vector<std::string> settings_keys() {
+    std::vector<std::string> keys = setting_names();
+    keys.erase(std::remove_if(keys.begin(), keys.end(), [](const std::string& k) { return k.rfind("render.", 0) == 0; }),
+               keys.end());
+    return keys;
+}
+
+}  // namespace
+
+const std::vector<std::string>& setting_names() {
+    static const std::vector<std::string> names = {
+        "preset", "wavelengths", "max_wavelengths", "isotropy", "grid", "g_grid", "phi_d_samples", "pca", "rank",
+        "importance", "compressive", "epsilon", "volume_weight", "iterations", "tolerance", "g_prior", "plain",
+        "error_pairs", "threads", "edit", "render", "render.size", "render.spp", "render.seed", "render.env",
+        "render.threads"};
+    return names;
+}
+
+ConvertSettings resolve_convert_settings(const Settings& s, bool source_isotropic) {
+    const auto has = [&](const char* k) { return s.count(k) > 0; };
+    const auto val = [&](const char* k) -> const std::string& { return s.at(k).value; };
+    const auto org = [&](const char* k) -> const std::string& { return s.at(k).origin; };
+    for (const auto& [k, v] : s) check_value(v.origin, k, k, v.value);
+
+    Isotropy isotropy = Isotropy::Auto;
+    if (has("isotropy")) {
+        if (val("isotropy") == "isotropic") isotropy = Isotropy::Isotropic;
+        else if (val("isotropy") == "anisotropic") isotropy = Isotropy::Anisotropic;
+    }
+    const bool isotropic = isotropy == Isotropy::Auto ? source_isotropic : isotropy == Isotropy::Isotropic;
+    const ConvertPreset preset = parse_convert_preset(has("preset") ? val("preset") : "production", "preset");
+    ConvertSettings out = preset_settings(preset, isotropic);
+    out.isotropy = isotropy;
+    AwlsOptions& o = out.fit;
+    if (has("wavelengths")) out.wavelengths = val("wavelengths");
+    if (has("max_wavelengths")) out.max_wavelengths = int(whole(org("max_wavelengths"), "max_wavelengths", val("max_wavelengths"), 0, 100000));
+    if (has("grid")) {
+        const auto p = split(val("grid"), ',');
+        o.grid = {std::atoi(p[0].c_str()), std::atoi(p[1].c_str()), std::atoi(p[2].c_str()), std::atoi(p[3].c_str())};
+    }
+    if (has("g_grid")) {
+        const auto p = split(val("g_grid"), ',');
+        o.g_theta = std::atoi(p[0].c_str());
+        o.g_phi = std::atoi(p[1].c_str());
+    }
+    if (has("phi_d_samples")) o.phi_d_samples = std::atoi(val("phi_d_samples").c_str());
+    if (has("pca")) {
+        const auto p = split(val("pca"), ',');
+        out.compression.d_ratio = std::strtod(p[0].c_str(), nullptr);
+        out.compression.g_ratio = std::strtod(p[1].c_str(), nullptr);
+    }
+    if (has("pca") || has("rank")) out.compress_rgb = true;
+    if (has("rank")) {
+        const auto p = split(val("rank"), ',');
+        out.compression.d_rank = std::atoi(p[0].c_str());
+        out.compression.g_rank = std::atoi(p[1].c_str());
+    }
+    if (has("importance")) o.importance_power = std::strtod(val("importance").c_str(), nullptr);
+    if (has("compressive")) o.compressive_power = std::strtod(val("compressive").c_str(), nullptr);
+    if (has("epsilon")) o.compressive_epsilon = std::strtod(val("epsilon").c_str(), nullptr);
+    if (has("volume_weight")) o.volume_weight = val("volume_weight") == "paper" ? VolumeWeight::Paper : VolumeWeight::ThreeAngle;
+    if (has("iterations")) o.max_iterations = std::atoi(val("iterations").c_str());
+    if (has("tolerance")) o.tolerance = std::strtod(val("tolerance").c_str(), nullptr);
+    if (has("plain")) o.extrapolate = val("plain") != "true";
+    if (has("g_prior")) {
+        const std::string& v = val("g_prior");
+        o.smith_start = v == "smith" || v == "smith-start";
+        o.bound_g = v == "smith" || v == "bounded";
+    }
+    if (has("error_pairs")) out.error_pairs = std::atoi(val("error_pairs").c_str());
+    if (has("threads")) o.threads = std::atoi(val("threads").c_str());
+    return out;
+}
+
+RenderCheck resolve_render_check(const Settings& s) {
+    RenderCheck r;
+    const auto it = s.find("render");
+    r.enabled = it != s.end() && it->second.value == "true";
+    if (const auto i = s.find("render.size"); i != s.end()) r.size = std::size_t(std::atol(i->second.value.c_str()));
+    if (const auto i = s.find("render.spp"); i != s.end()) r.spp = std::uint32_t(std::atol(i->second.value.c_str()));
+    if (const auto i = s.find("render.seed"); i != s.end()) r.seed = std::uint64_t(std::atol(i->second.value.c_str()));
+    if (const auto i = s.find("render.threads"); i != s.end()) r.threads = unsigned(std::atol(i->second.value.c_str()));
+    if (const auto i = s.find("render.env"); i != s.end()) r.env = i->second.value;
+    return r;
+}
+
+std::string canonical_settings(const Settings& settings) {
+    std::string text;
+    for (const auto& [k, v] : settings) {
+        if (k == "threads" || k == "edit" || k == "render" || k.rfind("render.", 0) == 0) continue;
+        text += k + "=" + v.value + "\n";
+    }
+    return text;
+}
+
+BatchConfig parse_batch_config(const std::string& yaml, const std::string& source, const std::string& base_dir) {
+    const Reader rd{source, base_dir};
+    YAML::Node root;
+    try {
+        root = YAML::Load(yaml);
+    } catch (const YAML::Exception& e) {
+        throw Error(e.mark.line >= 0 ? source + ":" + std::to_string(e.mark.line + 1) : source, "YAML: " + e.msg);
+    }
+    if (!root.IsMap()) throw Error(source, "expected a mapping with output_dir, inputs and optionally defaults, materials");
+    rd.only(root, "", {"version", "description", "output_dir", "naming", "summary", "inputs", "defaults", "materials"});
+
+    BatchConfig c;
+    c.base_dir = base_dir;
+    if (root["version"] && rd.scalar(root["version"], "version") != "1") rd.fail(root["version"], "version", "only version 1 is known");
+    if (root["description"]) rd.scalar(root["description"], "description");
+    if (!root["output_dir"]) throw Error(source, "key 'output_dir' is required");
+    c.output_dir = rd.path(root["output_dir"], "output_dir");
+    if (root["naming"]) {
+        c.naming = rd.scalar(root["naming"], "naming");
+        if (c.naming.find("{name}") == std::string::npos) rd.fail(root["naming"], "naming", "must contain {name}");
+        if (c.naming.find('/') != std::string::npos) rd.fail(root["naming"], "naming", "must not contain '/'");
+        if (c.naming.size() < 5 || c.naming.compare(c.naming.size() - 4, 4, ".exr") != 0)
+            rd.fail(root["naming"], "naming", "must end in .exr");
+    }
+    if (root["summary"]) c.summary = rd.path(root["summary"], "summary");
+
+    // Inputs: name -> (path, origin).
+    if (!root["inputs"]) throw Error(source, "key 'inputs' is required");
+    const YAML::Node inputs = root["inputs"];
+    if (!inputs.IsScalar() && !(inputs.IsSequence() && inputs.size() > 0))
+        rd.fail(inputs, "inputs", "expected a path or glob, or a list of them");
+    std::vector<YAML::Node> entries;
+    if (inputs.IsScalar()) entries.push_back(inputs);
+    else for (const YAML::Node& n : inputs) entries.push_back(n);
+    struct Found { std::string path, origin; };
+    std::map<std::string, Found> found;
+    std::set<std::string> seen_paths;
+    const auto add = [&](const std::string& name, const std::string& path, const std::string& origin, const YAML::Node& node,
+                         const std::string& key) {
+        if (name.empty()) rd.fail(node, key, "'" + path + "' has no file name");
+        const auto [it, fresh] = found.emplace(name, Found{path, origin});
+        if (!fresh) {
+            rd.fail(node, key, "two inputs are named '" + name + "': " + it->second.path + " (" + it->second.origin + ") and " +
+                                   path + "; rename one or list it under materials with its own input");
+        }
+    };
+    for (const YAML::Node& n : entries) {
+        const std::string pattern = rd.path(n, "inputs");
+        if (has_wildcard(pattern)) {
+            const std::vector<std::string> matches = expand_glob(pattern);
+            if (matches.empty()) c.warnings.push_back(rd.where(n) + ": '" + pattern + "' matches no file");
+            for (const std::string& m : matches) {
+                if (seen_paths.insert(m).second) add(stem_of(m), m, rd.where(n), n, "inputs");
+            }
+        } else if (seen_paths.insert(pattern).second) {
+            add(stem_of(pattern), pattern, rd.where(n), n, "inputs");
+        }
+    }
+
+    Settings defaults;
+    std::vector<std::string> keys = settings_keys();
+    if (root["defaults"]) {
+        rd.only(root["defaults"], "defaults", keys);
+        rd.settings(root["defaults"], "defaults.", defaults);
+    }
+    std::map<std::string, Settings> overrides;
+    std::set<std::string> skipped;
+    if (root["materials"]) {
+        const YAML::Node mats = root["materials"];
+        if (!mats.IsMap()) rd.fail(mats, "materials", "expected a mapping from material names to settings");
+        std::vector<std::string> material_keys = keys;
+        material_keys.push_back("input");
+        material_keys.push_back("skip");
+        std::set<std::string> seen;
+        for (const auto& kv : mats) {
+            if (!kv.first.IsScalar() || kv.first.Scalar().empty()) rd.fail(kv.first, "materials", "material names must be plain names");
+            const std::string name = kv.first.Scalar();
+            if (!seen.insert(name).second) rd.fail(kv.first, "materials." + name, "given twice");
+            const std::string key = "materials." + name;
+            if (kv.second.IsNull()) rd.fail(kv.first, key, "has no settings");
+            rd.only(kv.second, key, material_keys);
+            if (kv.second["input"]) {
+                const std::string p = rd.path(kv.second["input"], key + ".input");
+                if (found.count(name)) {
+                    rd.fail(kv.second["input"], key + ".input",
+                            "'" + name + "' is already an input (" + found[name].path + ", " + found[name].origin + ")");
+                }
+                found.emplace(name, Found{p, rd.where(kv.second["input"])});
+            } else if (!found.count(name)) {
+                rd.fail(kv.first, key, "no input is named '" + name + "' (names are the inputs' file names without extension)");
+            }
+            if (kv.second["skip"]) {
+                const std::string v = rd.scalar(kv.second["skip"], key + ".skip");
+                if (boolean(rd.where(kv.second["skip"]), key + ".skip", v)) skipped.insert(name);
+            }
+            rd.settings(kv.second, key + ".", overrides[name]);
+        }
+    }
+
+    for (const auto& [name, f] : found) {
+        if (skipped.count(name)) {
+            c.skipped_by_config.push_back(name);
+            continue;
+        }
+        MaterialJob job;
+        job.name = name;
+        job.input = f.path;
+        job.origin = f.origin;
+        std::string file = c.naming;
+        for (std::size_t at; (at = file.find("{name}")) != std::string::npos;) file.replace(at, 6, name);
+        job.output = (fs::path(c.output_dir) / file).lexically_normal().string();
+        job.settings = defaults;
+        for (const auto& [k, v] : overrides[name]) job.settings[k] = v;
+        c.materials.push_back(std::move(job));
+    }
+    // std::map keeps names sorted, so materials are in name order.
+    return c;
+}
+
+BatchConfig load_batch_config(const std::string& path) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw Error(path, "is a directory, not a batch configuration");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path, "cannot read the batch configuration");
+    std::ostringstream text;
+    text << in.rdbuf();
+    const fs::path abs = fs::absolute(path).lexically_normal();
+    BatchConfig c = parse_batch_config(text.str(), path, abs.parent_path().string());
+    c.path = abs.string();
+    return c;
+}
+
+}  // namespace npf::batch

@@ -1,0 +1,436 @@
+#include <npf/batch/runner.h>
+
+#include <npf/batch/content_hash.h>
+#include <npf/converter/convert.h>
+#include <npf/converter/npf_texture_writer.h>
+#include <npf/converter/open_brdf.h>
+#include <npf/core/error.h>
+#include <npf/edit/recipe.h>
+#include <npf/render/default_environment.h>
+#include <npf/render/environment_map.h>
+#include <npf/render/image_metrics.h>
+#include <npf/render/path_tracer.h>
+#include <npf/render/render_output.h>
+#include <npf/shading/npf_texture_file.h>
+#include <npf/shading/npf_texture_layout.h>
+
+#include <OpenImageIO/imageio.h>
+#include <yaml-cpp/yaml.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+
+#include <ctime>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#ifndef NPF_VERSION_STRING
+#define NPF_VERSION_STRING "unknown"
+#endif
+
+namespace npf::batch {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string g17(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return b;
+}
+
+std::string resolved_text(const ConvertSettings& s) {
+    const AwlsOptions& o = s.fit;
+    std::string t;
+    t += "preset=" + std::string(convert_preset_name(s.preset)) + "\n";
+    t += "grid=" + std::to_string(o.grid.theta_h) + "," + std::to_string(o.grid.phi_h) + "," + std::to_string(o.grid.theta_d) +
+         "," + std::to_string(o.grid.phi_d) + "\n";
+    t += "g_grid=" + std::to_string(o.g_theta) + "," + std::to_string(o.g_phi) + "\n";
+    t += "phi_d_samples=" + std::to_string(o.phi_d_samples) + "\n";
+    t += "volume_weight=" + std::string(o.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle") + "\n";
+    t += "importance=" + g17(o.importance_power) + "\ncompressive=" + g17(o.compressive_power) +
+         "\nepsilon=" + g17(o.compressive_epsilon) + "\n";
+    t += "extrapolate=" + std::to_string(o.extrapolate) + "\nsmith_start=" + std::to_string(o.smith_start) +
+         "\nbound_g=" + std::to_string(o.bound_g) + "\n";
+    t += "iterations=" + std::to_string(o.max_iterations) + "\ntolerance=" + g17(o.tolerance) + "\n";
+    t += "pca=" + g17(s.compression.d_ratio) + "," + g17(s.compression.g_ratio) + "\nrank=" +
+         std::to_string(s.compression.d_rank) + "," + std::to_string(s.compression.g_rank) + "\n";
+    t += "compress_rgb=" + std::to_string(s.compress_rgb) + "\nwavelengths=" + s.wavelengths +
+         "\nmax_wavelengths=" + std::to_string(s.max_wavelengths) + "\n";
+    t += "isotropy=" + std::to_string(int(s.isotropy)) + "\nerror_pairs=" + std::to_string(s.error_pairs) + "\n";
+    return t;
+}
+
+// The recipe's bytes and those of every file a value in it names (materials, spectra), so that
+// changing a referenced file redoes the edit.
+std::string edit_hash_text(const std::string& recipe) {
+    std::string t = "edit " + sha256_file(recipe) + "\n";
+    const fs::path dir = fs::path(recipe).parent_path();
+    std::vector<YAML::Node> todo;
+    try {
+        todo.push_back(YAML::LoadFile(recipe));
+    } catch (const YAML::Exception&) {
+        return t;  // the recipe's own loader reports the problem
+    }
+    std::map<std::string, std::string> files;
+    while (!todo.empty()) {
+        const YAML::Node n = todo.back();
+        todo.pop_back();
+        if (n.IsScalar()) {
+            const std::string v = n.Scalar();
+            if (v.empty() || v.size() > 4096 || v.find('\0') != std::string::npos) continue;
+            const fs::path p = fs::path(v).is_absolute() ? fs::path(v) : dir / v;
+            std::error_code ec;
+            if (fs::is_regular_file(p, ec)) files[v] = sha256_file(p.string());
+        } else if (n.IsSequence()) {
+            for (const YAML::Node& c : n) todo.push_back(c);
+        } else if (n.IsMap()) {
+            for (const auto& kv : n) todo.push_back(kv.second);
+        }
+    }
+    for (const auto& [name, h] : files) t += "edit-file " + name + " " + h + "\n";
+    return t;
+}
+
+std::uint64_t file_size(const std::string& path) {
+    std::error_code ec;
+    const auto n = fs::file_size(path, ec);
+    return ec ? 0 : std::uint64_t(n);
+}
+
+// The first part's header attributes of an OpenEXR file, as strings; nothing when the file is
+// missing or unreadable (headers only: cheap).
+std::optional<std::map<std::string, std::string>> header_of(const std::string& path, bool npf_texture) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) return std::nullopt;
+    // Outputs are NPF textures: sniffed first (its header checks keep a damaged file at an
+    // output's name from reaching OpenImageIO's assertions); renders are the batch's own.
+    if (npf_texture && !is_npf_texture(path)) return std::nullopt;
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) {
+        OIIO::geterror();  // clear it
+        return std::nullopt;
+    }
+    std::map<std::string, std::string> out;
+    for (const OIIO::ParamValue& p : in->spec().extra_attribs) {
+        if (p.type() == OIIO::TypeString) out[p.name().string()] = p.get_string();
+    }
+    in->close();
+    return out;
+}
+
+std::optional<double> attr_number(const std::map<std::string, std::string>& h, const std::string& key) {
+    const auto it = h.find(key);
+    if (it == h.end()) return std::nullopt;
+    char* end = nullptr;
+    const double v = std::strtod(it->second.c_str(), &end);
+    if (end == it->second.c_str()) return std::nullopt;
+    return v;
+}
+
+void fill_from_header(MaterialResult& r, const std::map<std::string, std::string>& h) {
+    const std::string m = npf_exr::kMetadataPrefix;
+    r.error_mean = attr_number(h, m + "error_rel_rms_mean");
+    r.error_max = attr_number(h, m + "error_rel_rms_max");
+    r.fitted_error_mean = attr_number(h, m + "error_fitted_rel_rms_mean");
+    r.fitted_error_max = attr_number(h, m + "error_fitted_rel_rms_max");
+    r.edits.clear();
+    for (int k = 1; k < 1000; ++k) {
+        char key[32];
+        std::snprintf(key, sizeof key, "edit_%03d", k);
+        const auto it = h.find(m + key);
+        if (it == h.end()) break;
+        r.edits.push_back(it->second.substr(0, it->second.find('\n')));
+    }
+}
+
+void fill_from_render_header(MaterialResult& r, const std::map<std::string, std::string>& h) {
+    r.psnr = attr_number(h, "npf:batch_psnr");
+    r.ssim = attr_number(h, "npf:batch_ssim");
+    r.relmse = attr_number(h, "npf:batch_relmse");
+}
+
+// Holds an exclusive lock on a file for the lifetime of the object (released by the kernel if
+// the process dies).
+class FileLock {
+public:
+    explicit FileLock(const std::string& path) {
+        m_fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        if (m_fd < 0) throw Error(path, std::string("cannot create the lock file: ") + std::strerror(errno));
+        if (::flock(m_fd, LOCK_EX | LOCK_NB) != 0) {
+            ::close(m_fd);
+            throw Error(path, "another npf batch is running this shard (the lock is held)");
+        }
+    }
+    ~FileLock() { ::close(m_fd); }
+    FileLock(const FileLock&) = delete;
+    FileLock& operator=(const FileLock&) = delete;
+
+private:
+    int m_fd = -1;
+};
+
+void clear_folder(const std::string& dir) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) fs::remove_all(e.path(), ec);
+}
+
+void move_into_place(const std::string& from, const std::string& to) {
+    std::error_code ec;
+    fs::rename(from, to, ec);
+    if (ec) throw Error(to, "cannot move the finished file into place: " + ec.message());
+}
+
+// OpenImageIO stamps every part of an OpenEXR file it writes with the time of writing (the
+// capDate attribute, "YYYY:MM:DD HH:MM:SS"), which would make two conversions of the same
+// material differ in those bytes. The batch pins it to the input file's modification time (UTC),
+// in place: same length, so nothing else in the file moves. Throws npf::Error.
+void pin_capture_date(const std::string& path, const std::string& input) {
+    struct stat st {};
+    if (::stat(input.c_str(), &st) != 0) throw Error(input, std::string("cannot stat: ") + std::strerror(errno));
+    std::tm t{};
+    const std::time_t when = st.st_mtime;
+    ::gmtime_r(&when, &t);
+    char stamp[80];
+    std::snprintf(stamp, sizeof stamp, "%04d:%02d:%02d %02d:%02d:%02d", t.tm_year + 1900, t.tm_mon + 1, t.tm_mday, t.tm_hour,
+                  t.tm_min, t.tm_sec);
+    std::FILE* f = std::fopen(path.c_str(), "r+b");
+    if (!f) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
+    std::string bytes;
+    char buffer[65536];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes.append(buffer, n);
+    static const std::string tag("capDate\0string\0\x13\0\0\0", 19);
+    const auto is_stamp = [&](std::size_t at) {
+        if (at + 19 > bytes.size()) return false;
+        for (std::size_t i = 0; i < 19; ++i) {
+            const char c = bytes[at + i];
+            const bool ok = (i == 4 || i == 7 || i == 13 || i == 16) ? c == ':' : i == 10 ? c == ' ' : (c >= '0' && c <= '9');
+            if (!ok) return false;
+        }
+        return true;
+    };
+    bool ok = true;
+    for (std::size_t at = bytes.find(tag); at != std::string::npos; at = bytes.find(tag, at + 1)) {
+        const std::size_t value = at + tag.size();
+        if (!is_stamp(value)) continue;
+        ok = ok && std::fseek(f, long(value), SEEK_SET) == 0 && std::fwrite(stamp, 1, 19, f) == 19;
+    }
+    ok = std::fclose(f) == 0 && ok;
+    if (!ok) throw Error(path, "cannot set the capture date");
+}
+
+std::string shard_tag(const Shard& s) { return "shard-" + std::to_string(s.index) + "-of-" + std::to_string(s.count); }
+
+std::string render_file(const MaterialJob& job, const char* kind) {
+    const fs::path out(job.output);
+    return (out.parent_path() / "renders" / (out.stem().string() + "." + kind + ".exr")).string();
+}
+
+std::string fmt(const char* format, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, format, v);
+    return b;
+}
+
+}  // namespace
+
+Shard parse_shard(const std::string& text, const std::string& what) {
+    const std::size_t slash = text.find('/');
+    const auto whole = [&](const std::string& v) -> long {
+        if (v.empty() || v.size() > 6 || v.find_first_not_of("0123456789") != std::string::npos)
+            throw Error(what, "expects K/N with whole numbers 0 <= K < N, got '" + text + "'");
+        return std::atol(v.c_str());
+    };
+    if (slash == std::string::npos) throw Error(what, "expects K/N (shard K of N, from 0), got '" + text + "'");
+    const long k = whole(text.substr(0, slash)), n = whole(text.substr(slash + 1));
+    if (n < 1 || n > 100000 || k >= n) throw Error(what, "expects K/N with 0 <= K < N <= 100000, got '" + text + "'");
+    return Shard{int(k), int(n)};
+}
+
+std::vector<std::size_t> shard_members(std::size_t count, const Shard& shard) {
+    std::vector<std::size_t> out;
+    for (std::size_t i = std::size_t(shard.index); i < count; i += std::size_t(shard.count)) out.push_back(i);
+    return out;
+}
+
+std::string summary_base(const BatchConfig& config, const Shard& shard) {
+    std::string base = config.summary.empty() ? (fs::path(config.output_dir) / "batch-summary").string() : config.summary;
+    if (shard.count > 1) base += "." + shard_tag(shard);
+    return base;
+}
+
+std::string material_hash(const MaterialJob& job, bool source_isotropic) {
+    std::string t = "npf batch content hash " + std::to_string(kContentHashVersion) + "\n";
+    t += "npf " NPF_VERSION_STRING ", texture format " + std::to_string(npf_exr::kFormatVersion) + "\n";
+    t += "input " + sha256_file(job.input) + "\n";
+    t += resolved_text(resolve_convert_settings(job.settings, source_isotropic));
+    const auto e = job.settings.find("edit");
+    t += (e == job.settings.end() || e->second.value.empty()) ? "edit none\n" : edit_hash_text(e->second.value);
+    return sha256_hex(t);
+}
+
+BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
+    const auto start = Clock::now();
+    const auto log = [&](const std::string& line) {
+        if (options.log) options.log(line);
+    };
+    BatchSummary summary;
+    summary.config = config.path;
+    summary.shard_index = options.shard.index;
+    summary.shard_count = options.shard.count;
+    summary.shards = {options.shard.index};
+    summary.config_materials = config.materials.size();
+    summary.warnings = config.warnings;
+
+    std::error_code ec;
+    fs::create_directories(config.output_dir, ec);
+    if (ec) throw Error(config.output_dir, "cannot create the output folder: " + ec.message());
+    const std::string work = (fs::path(config.output_dir) / ".npf-batch").string();
+    const std::string stage = (fs::path(work) / shard_tag(options.shard)).string();
+    fs::create_directories(stage, ec);
+    if (ec) throw Error(stage, "cannot create the work folder: " + ec.message());
+    const FileLock lock(stage + ".lock");
+    clear_folder(stage);  // what a killed run left
+
+    std::map<std::string, render::EnvironmentMap> environments;
+    const std::vector<std::size_t> members = shard_members(config.materials.size(), options.shard);
+    std::size_t done = 0;
+    for (std::size_t index : members) {
+        MaterialJob job = config.materials[index];
+        if (options.threads > 0) job.settings["threads"] = {std::to_string(options.threads), "--threads"};
+        const auto t0 = Clock::now();
+        MaterialResult r;
+        r.name = job.name;
+        r.input = job.input;
+        r.output = job.output;
+        r.shard = options.shard.index;
+        const std::string counter = "[" + std::to_string(++done) + "/" + std::to_string(members.size()) + "] " + job.name;
+        const std::string fit_path = (fs::path(stage) / (job.name + ".fit.exr")).string();
+        const std::string final_stage = (fs::path(stage) / (job.name + ".exr")).string();
+        try {
+            if (!fs::is_regular_file(job.input, ec)) {
+                throw Error(job.input, fs::exists(job.input, ec) ? "not a regular file" : "no such file (named at " + job.origin + ")");
+            }
+            r.input_bytes = file_size(job.input);
+            const std::unique_ptr<Brdf> source = open_material(job.input);
+            r.input_bytes = source->info().file_bytes;  // 0 for analytic recipes: no ratio
+            const bool isotropic = source->info().isotropic;
+            r.hash = material_hash(job, isotropic);
+            const RenderCheck check = resolve_render_check(job.settings);
+
+            const auto header = header_of(job.output, true);
+            const std::string m = npf_exr::kMetadataPrefix;
+            const bool up_to_date = !options.force && header && header->count(m + "batch_hash") &&
+                                    header->at(m + "batch_hash") == r.hash;
+            std::string render_hash;
+            std::optional<std::map<std::string, std::string>> render_header;
+            if (check.enabled) {
+                const std::string env = check.env.empty() ? render::default_environment_map_path() : check.env;
+                render_hash = sha256_hex(r.hash + "\nrender size=" + std::to_string(check.size) + " spp=" +
+                                         std::to_string(check.spp) + " seed=" + std::to_string(check.seed) + "\nenv " +
+                                         sha256_file(env) + "\n");
+                render_header = header_of(render_file(job, "npf"), false);
+            }
+            const bool render_up_to_date = !check.enabled || (up_to_date && render_header && render_header->count("npf:batch_hash") &&
+                                                              render_header->at("npf:batch_hash") == render_hash &&
+                                                              fs::is_regular_file(render_file(job, "reference"), ec));
+
+            if (!up_to_date) {
+                ConvertSettings s = resolve_convert_settings(job.settings, isotropic);
+                const ConvertReport rep = convert_material(*source, fit_path, s);
+                NpfModel model = read_npf_texture(fit_path);
+                fs::remove(fit_path, ec);
+                const auto e = job.settings.find("edit");
+                if (e != job.settings.end() && !e->second.value.empty()) {
+                    const edit::EditRecipe recipe = edit::load_edit_recipe(e->second.value);
+                    edit::EditResult edited = edit::apply_edits(model, recipe.steps, recipe.options);
+                    model = std::move(edited.model);
+                }
+                model.metadata.emplace_back("batch_name", job.name);
+                model.metadata.emplace_back("batch_settings", canonical_settings(job.settings));
+                model.metadata.emplace_back("batch_hash", r.hash);
+                write_npf_texture(model, final_stage);
+                pin_capture_date(final_stage, job.input);
+                move_into_place(final_stage, job.output);
+                if (rep.fit.invalid_values > 0) r.reason = std::to_string(rep.fit.invalid_values) + " invalid source values ignored";
+                r.status = MaterialStatus::Converted;
+            } else {
+                r.status = MaterialStatus::Skipped;
+            }
+            r.output_bytes = file_size(job.output);
+            if (const auto h = header_of(job.output, true)) fill_from_header(r, *h);
+
+            if (check.enabled && !render_up_to_date) {
+                const std::string env_path = check.env.empty() ? render::default_environment_map_path() : check.env;
+                auto it = environments.find(env_path);
+                if (it == environments.end()) it = environments.emplace(env_path, render::EnvironmentMap::load(env_path)).first;
+                render::RenderOptions ro;
+                ro.width = ro.height = check.size;
+                ro.spp = check.spp;
+                ro.seed = check.seed;
+                ro.threads = check.threads;
+                const render::RenderResult reference = render::render(*source, it->second, ro);
+                const std::unique_ptr<Brdf> fitted = open_brdf(job.output);
+                const render::RenderResult test = render::render(*fitted, it->second, ro);
+                const render::ImageMetrics metrics = render::compare_images(reference.image, test.image, {}, "reference", "npf");
+                r.psnr = metrics.psnr, r.ssim = metrics.ssim, r.relmse = metrics.relmse;
+                fs::create_directories(fs::path(job.output).parent_path() / "renders", ec);
+                render::RenderMetadata ref_meta = render::describe_render(reference, ro, it->second);
+                ref_meta.insert(ref_meta.begin(), {"npf:material", job.input});
+                ref_meta.emplace_back("npf:batch_hash", render_hash);
+                render::RenderMetadata npf_meta = render::describe_render(test, ro, it->second);
+                npf_meta.insert(npf_meta.begin(), {"npf:material", job.output});
+                npf_meta.emplace_back("npf:batch_hash", render_hash);
+                npf_meta.emplace_back("npf:batch_psnr", fmt("%.9g", metrics.psnr));
+                npf_meta.emplace_back("npf:batch_ssim", fmt("%.9g", metrics.ssim));
+                npf_meta.emplace_back("npf:batch_relmse", fmt("%.9g", metrics.relmse));
+                const std::string ref_stage = (fs::path(stage) / (job.name + ".reference.exr")).string();
+                const std::string npf_stage = (fs::path(stage) / (job.name + ".npf.exr")).string();
+                render::write_render_exr(ref_stage, reference, ref_meta);
+                render::write_render_exr(npf_stage, test, npf_meta);
+                move_into_place(ref_stage, render_file(job, "reference"));
+                move_into_place(npf_stage, render_file(job, "npf"));  // last: its hash says both are done
+                if (r.status == MaterialStatus::Skipped) r.reason = "validation render redone";
+            } else if (check.enabled && render_header) {
+                fill_from_render_header(r, *render_header);
+            }
+        } catch (const std::exception& e) {
+            r.status = MaterialStatus::Failed;
+            r.reason = e.what();
+        }
+        clear_folder(stage);
+        r.seconds = seconds_since(t0);
+        std::string line = counter + ": " + status_name(r.status);
+        if (r.status == MaterialStatus::Failed) {
+            line += ": " + r.reason;
+        } else {
+            line += " in " + fmt("%.2f s", r.seconds);
+            if (r.output_bytes) line += ", " + fmt("%.3f MB", double(r.output_bytes) / 1e6);
+            if (r.ratio()) line += " (1/" + fmt("%.1f", *r.ratio()) + ")";
+            if (r.error_mean) line += ", error " + fmt("%.2f %%", 100.0 * *r.error_mean);
+            if (r.psnr) line += ", PSNR " + fmt("%.2f dB", *r.psnr);
+            if (!r.reason.empty()) line += " (" + r.reason + ")";
+        }
+        log(line);
+        summary.materials.push_back(std::move(r));
+    }
+    summary.seconds = seconds_since(start);
+    return summary;
+}
+
+}  // namespace npf::batch

@@ -1,0 +1,261 @@
+#include <npf/batch/summary.h>
+
+#include <npf/core/atomic_file.h>
+#include <npf/core/error.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+
+namespace npf::batch {
+
+namespace {
+
+std::string quoted(const std::string& s) {
+    std::string out = "\"";
+    for (unsigned char c : s) {
+        switch (c) {
+        case '"': out += "\\\""; break;
+        case '\\': out += "\\\\"; break;
+        case '\n': out += "\\n"; break;
+        case '\r': out += "\\r"; break;
+        case '\t': out += "\\t"; break;
+        default:
+            if (c < 0x20 || c == 0x7f) {
+                char b[8];
+                std::snprintf(b, sizeof b, "\\u%04x", c);
+                out += b;
+            } else {
+                out += char(c);
+            }
+        }
+    }
+    return out + "\"";
+}
+
+std::string num(double v) {
+    if (!std::isfinite(v)) return "null";
+    char b[40];
+    std::snprintf(b, sizeof b, "%.9g", v);
+    return b;
+}
+
+std::string opt(const std::optional<double>& v) { return v ? num(*v) : "null"; }
+
+std::string fixed(double v, int digits) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.*f", digits, v);
+    return b;
+}
+
+std::string megabytes(std::uint64_t bytes) { return fixed(double(bytes) / 1e6, 3); }
+
+// A Markdown table cell: no pipes or newlines.
+std::string cell(std::string s) {
+    for (char& c : s) {
+        if (c == '|') c = '/';
+        if (c == '\n' || c == '\r') c = ' ';
+    }
+    return s;
+}
+
+MaterialStatus parse_status(const std::string& s, const std::string& path) {
+    if (s == "converted") return MaterialStatus::Converted;
+    if (s == "skipped") return MaterialStatus::Skipped;
+    if (s == "failed") return MaterialStatus::Failed;
+    throw Error(path, "unknown material status '" + s + "'");
+}
+
+}  // namespace
+
+const char* status_name(MaterialStatus s) {
+    switch (s) {
+    case MaterialStatus::Converted: return "converted";
+    case MaterialStatus::Skipped: return "skipped";
+    case MaterialStatus::Failed: return "failed";
+    }
+    return "?";
+}
+
+std::optional<double> MaterialResult::ratio() const {
+    if (input_bytes == 0 || output_bytes == 0) return std::nullopt;
+    return double(input_bytes) / double(output_bytes);
+}
+
+std::size_t BatchSummary::count(MaterialStatus s) const {
+    return std::size_t(std::count_if(materials.begin(), materials.end(), [s](const MaterialResult& m) { return m.status == s; }));
+}
+
+std::string summary_json(const BatchSummary& s) {
+    std::string j = "{\n";
+    j += "  \"npf_batch_summary\": 1,\n";
+    j += "  \"config\": " + quoted(s.config) + ",\n";
+    j += "  \"shard_index\": " + std::to_string(s.shard_index) + ",\n";
+    j += "  \"shard_count\": " + std::to_string(s.shard_count) + ",\n";
+    j += "  \"shards\": [";
+    for (std::size_t i = 0; i < s.shards.size(); ++i) j += (i ? ", " : "") + std::to_string(s.shards[i]);
+    j += "],\n";
+    j += "  \"config_materials\": " + std::to_string(s.config_materials) + ",\n";
+    j += "  \"seconds\": " + num(s.seconds) + ",\n";
+    j += "  \"counts\": {\"converted\": " + std::to_string(s.count(MaterialStatus::Converted)) +
+         ", \"skipped\": " + std::to_string(s.count(MaterialStatus::Skipped)) +
+         ", \"failed\": " + std::to_string(s.count(MaterialStatus::Failed)) + "},\n";
+    j += "  \"ok\": " + std::string(s.ok() ? "true" : "false") + ",\n";
+    j += "  \"warnings\": [";
+    for (std::size_t i = 0; i < s.warnings.size(); ++i) j += (i ? ", " : "") + quoted(s.warnings[i]);
+    j += "],\n";
+    j += "  \"materials\": [";
+    for (std::size_t i = 0; i < s.materials.size(); ++i) {
+        const MaterialResult& m = s.materials[i];
+        j += i ? ",\n    {" : "\n    {";
+        j += "\"name\": " + quoted(m.name) + ", \"status\": " + quoted(status_name(m.status));
+        j += ", \"reason\": " + quoted(m.reason);
+        j += ", \"input\": " + quoted(m.input) + ", \"output\": " + quoted(m.output);
+        j += ", \"shard\": " + std::to_string(m.shard) + ", \"seconds\": " + num(m.seconds);
+        j += ", \"input_bytes\": " + std::to_string(m.input_bytes) + ", \"output_bytes\": " + std::to_string(m.output_bytes);
+        j += ", \"ratio\": " + opt(m.ratio());
+        j += ", \"error_rel_rms_mean\": " + opt(m.error_mean) + ", \"error_rel_rms_max\": " + opt(m.error_max);
+        j += ", \"fitted_error_rel_rms_mean\": " + opt(m.fitted_error_mean) +
+             ", \"fitted_error_rel_rms_max\": " + opt(m.fitted_error_max);
+        j += ", \"psnr\": " + opt(m.psnr) + ", \"ssim\": " + opt(m.ssim) + ", \"relmse\": " + opt(m.relmse);
+        j += ", \"edits\": [";
+        for (std::size_t e = 0; e < m.edits.size(); ++e) j += (e ? ", " : "") + quoted(m.edits[e]);
+        j += "], \"hash\": " + quoted(m.hash) + "}";
+    }
+    j += s.materials.empty() ? "]\n}\n" : "\n  ]\n}\n";
+    return j;
+}
+
+std::string summary_markdown(const BatchSummary& s) {
+    std::string md = "# npf batch summary\n\n";
+    md += "- configuration: `" + s.config + "`\n";
+    if (s.shards.size() == 1) {
+        md += "- shard: " + std::to_string(s.shard_index) + " of " + std::to_string(s.shard_count) + "\n";
+    } else {
+        md += "- shards merged: " + std::to_string(s.shards.size()) + " of " + std::to_string(s.shard_count) + "\n";
+    }
+    md += "- materials: " + std::to_string(s.materials.size()) + " (" + std::to_string(s.count(MaterialStatus::Converted)) +
+          " converted, " + std::to_string(s.count(MaterialStatus::Skipped)) + " skipped, " +
+          std::to_string(s.count(MaterialStatus::Failed)) + " failed) of " + std::to_string(s.config_materials) +
+          " in the configuration\n";
+    md += "- wall time: " + fixed(s.seconds, 2) + " s\n";
+    md += std::string("- result: ") + (s.ok() ? "**ok**" : "**some materials failed**") + "\n";
+    for (const std::string& w : s.warnings) md += "- warning: " + cell(w) + "\n";
+    md += "\n| material | status | time (s) | input (MB) | output (MB) | ratio | error mean / worst (%) | PSNR (dB) | SSIM | note |\n";
+    md += "|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
+    for (const MaterialResult& m : s.materials) {
+        md += "| " + cell(m.name) + " | " + status_name(m.status) + " | " + fixed(m.seconds, 2) + " | ";
+        md += (m.input_bytes ? megabytes(m.input_bytes) : "-") + " | " + (m.output_bytes ? megabytes(m.output_bytes) : "-") + " | ";
+        md += (m.ratio() ? "1/" + fixed(*m.ratio(), 1) : "-") + " | ";
+        md += (m.error_mean ? fixed(100.0 * *m.error_mean, 2) + " / " + fixed(100.0 * m.error_max.value_or(0.0), 2) : "-") + " | ";
+        md += (m.psnr ? (std::isfinite(*m.psnr) ? fixed(*m.psnr, 2) : "inf") : "-") + " | ";
+        md += (m.ssim ? fixed(*m.ssim, 4) : "-") + " | ";
+        std::string note = m.reason;
+        if (!m.edits.empty()) note += (note.empty() ? "" : "; ") + std::to_string(m.edits.size()) + " edit(s)";
+        md += cell(note) + " |\n";
+    }
+    return md;
+}
+
+void write_summary(const BatchSummary& s, const std::string& base) {
+    const std::string json = summary_json(s), md = summary_markdown(s);
+    write_file_atomically(base + ".json", json.data(), json.size());
+    write_file_atomically(base + ".md", md.data(), md.size());
+}
+
+BatchSummary read_summary_json(const std::string& path) {
+    YAML::Node root;
+    try {
+        root = YAML::LoadFile(path);
+    } catch (const YAML::BadFile&) {
+        throw Error(path, "cannot read the summary");
+    } catch (const YAML::Exception& e) {
+        throw Error(e.mark.line >= 0 ? path + ":" + std::to_string(e.mark.line + 1) : path, "not a batch summary: " + e.msg);
+    }
+    try {
+        if (!root.IsMap() || !root["npf_batch_summary"] || root["npf_batch_summary"].as<int>() != 1)
+            throw Error(path, "not an npf batch summary (version 1)");
+        BatchSummary s;
+        s.config = root["config"].as<std::string>();
+        s.shard_index = root["shard_index"].as<int>();
+        s.shard_count = root["shard_count"].as<int>();
+        for (const YAML::Node& n : root["shards"]) s.shards.push_back(n.as<int>());
+        s.config_materials = root["config_materials"].as<std::size_t>();
+        s.seconds = root["seconds"].IsNull() ? 0.0 : root["seconds"].as<double>();
+        for (const YAML::Node& n : root["warnings"]) s.warnings.push_back(n.as<std::string>());
+        const auto optional = [](const YAML::Node& n) -> std::optional<double> {
+            if (!n || n.IsNull()) return std::nullopt;
+            return n.as<double>();
+        };
+        for (const YAML::Node& n : root["materials"]) {
+            MaterialResult m;
+            m.name = n["name"].as<std::string>();
+            m.status = parse_status(n["status"].as<std::string>(), path);
+            m.reason = n["reason"].as<std::string>();
+            m.input = n["input"].as<std::string>();
+            m.output = n["output"].as<std::string>();
+            m.shard = n["shard"].as<int>();
+            m.seconds = optional(n["seconds"]).value_or(0.0);
+            m.input_bytes = n["input_bytes"].as<std::uint64_t>();
+            m.output_bytes = n["output_bytes"].as<std::uint64_t>();
+            m.error_mean = optional(n["error_rel_rms_mean"]);
+            m.error_max = optional(n["error_rel_rms_max"]);
+            m.fitted_error_mean = optional(n["fitted_error_rel_rms_mean"]);
+            m.fitted_error_max = optional(n["fitted_error_rel_rms_max"]);
+            m.psnr = optional(n["psnr"]);
+            m.ssim = optional(n["ssim"]);
+            m.relmse = optional(n["relmse"]);
+            for (const YAML::Node& e : n["edits"]) m.edits.push_back(e.as<std::string>());
+            m.hash = n["hash"].as<std::string>();
+            s.materials.push_back(std::move(m));
+        }
+        return s;
+    } catch (const Error&) {
+        throw;
+    } catch (const YAML::Exception& e) {
+        throw Error(path, "malformed batch summary: " + e.msg);
+    }
+}
+
+BatchSummary merge_summaries(const std::vector<BatchSummary>& parts) {
+    if (parts.empty()) throw Error("merge", "no summaries to merge");
+    BatchSummary out;
+    out.config = parts.front().config;
+    out.shard_count = parts.front().shard_count;
+    out.shard_index = -1;
+    out.config_materials = parts.front().config_materials;
+    std::map<std::string, MaterialResult> by_name;
+    std::set<int> shards;
+    for (const BatchSummary& p : parts) {
+        if (p.config != out.config) out.warnings.push_back("summary of another configuration merged: " + p.config);
+        if (p.shard_count != out.shard_count)
+            out.warnings.push_back("summaries of different shard counts merged (" + std::to_string(p.shard_count) + " and " +
+                                   std::to_string(out.shard_count) + ")");
+        for (int k : p.shards) {
+            if (!shards.insert(k).second) out.warnings.push_back("shard " + std::to_string(k) + " given twice");
+        }
+        out.seconds += p.seconds;
+        for (const std::string& w : p.warnings) {
+            if (std::find(out.warnings.begin(), out.warnings.end(), w) == out.warnings.end()) out.warnings.push_back(w);
+        }
+        for (const MaterialResult& m : p.materials) {
+            if (by_name.count(m.name)) out.warnings.push_back("material '" + m.name + "' reported by more than one shard");
+            by_name[m.name] = m;
+        }
+    }
+    for (int k = 0; k < out.shard_count; ++k) {
+        if (!shards.count(k)) out.warnings.push_back("shard " + std::to_string(k) + " of " + std::to_string(out.shard_count) + " is missing");
+    }
+    out.shards.assign(shards.begin(), shards.end());
+    for (auto& [name, m] : by_name) out.materials.push_back(std::move(m));
+    if (out.materials.size() < out.config_materials) {
+        out.warnings.push_back(std::to_string(out.config_materials - out.materials.size()) + " material(s) of the configuration not reported");
+    }
+    return out;
+}
+
+}  // namespace npf::batch

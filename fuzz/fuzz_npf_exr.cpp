@@ -1,0 +1,28 @@
+// libFuzzer target: the NPF factor texture reader (OpenEXR through OpenImageIO, then every check
+// of docs/format.md sec. 8) and, for files it accepts, the NpfBrdf built on them.
+#include "fuzz_exercise.h"
+#include "fuzz_input_file.h"
+
+#include <npf/converter/open_brdf.h>
+#include <npf/core/error.h>
+#include <npf/shading/npf_texture_file.h>
+
+#include <OpenImageIO/imageio.h>
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    OIIO::attribute("threads", 1);  // no worker threads: one input at a time, reproducibly
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    static const std::string path = npf::fuzz::scratch_file(".exr");
+    if (!npf::fuzz::write_scratch(path, data, size)) return 0;
+    try {
+        (void)npf::read_npf_texture(path);
+        npf::fuzz::exercise(*npf::open_brdf(path));
+    } catch (const npf::Error&) {
+    }
+    (void)npf::is_npf_texture(path);
+    OIIO::geterror();  // do not let OIIO's error text accumulate across inputs
+    return 0;
+}

@@ -1,0 +1,129 @@
+// npf batch: a material library from a YAML configuration (docs/batch.md): resumable (outputs
+// whose content hash matches are skipped), failure-isolated, shardable, with JSON and Markdown
+// summaries; --merge joins shard summaries.
+#include "command_line.h"
+#include "commands.h"
+
+#include <npf/batch/config.h>
+#include <npf/batch/runner.h>
+#include <npf/batch/summary.h>
+#include <npf/core/error.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+namespace npf::cli {
+
+namespace {
+
+const std::vector<FlagSpec> kFlags = {
+    {"--shard", true, "K/N: run only shard K of N (0-based; material i of the name-sorted list goes to shard i mod N)"},
+    {"--summary", true, "summary base name (writes BASE.json and BASE.md; default from the config)"},
+    {"--force", false, "redo every material, whatever its content hash says"},
+    {"--threads", true, "threads per material, overriding the configuration (changes the output's rounding)"},
+    {"--check", false, "only read and check the configuration; list the materials of the shard"},
+    {"--merge", false, "merge shard summaries: npf batch --merge S1.json S2.json ... [-o MERGED]"},
+    {"-o", true, "with --merge: base name of the merged summary (default: batch-summary beside the first)"},
+    {"--quiet", false, "no line per material"},
+    {"--help", false, "show this help"},
+};
+
+// Exit status when the batch ran but some materials failed.
+constexpr int kSomeFailed = 4;
+
+int run_merge(const CommandLine& cl) {
+    if (cl.positional().empty()) throw Error("--merge", "needs one or more summary files (.json)");
+    // A shard that died before writing its summary must not stop the others' merge: its file is
+    // reported missing (and the merge's status says the result is incomplete).
+    std::vector<batch::BatchSummary> parts;
+    std::vector<std::string> unreadable;
+    for (const std::string& p : cl.positional()) {
+        try {
+            parts.push_back(batch::read_summary_json(p));
+        } catch (const Error& e) {
+            unreadable.push_back(e.what());
+        }
+    }
+    if (parts.empty()) throw Error("--merge", "no summary could be read: " + unreadable.front());
+    batch::BatchSummary merged = batch::merge_summaries(parts);
+    for (const std::string& u : unreadable) merged.warnings.push_back("summary not merged: " + u);
+    std::string base = cl.value("-o");
+    if (base.empty()) base = (std::filesystem::path(cl.positional().front()).parent_path() / "batch-summary").string();
+    if (base.size() > 5 && base.compare(base.size() - 5, 5, ".json") == 0) base.resize(base.size() - 5);
+    batch::write_summary(merged, base);
+    std::printf("merged %zu summaries: %zu materials, %zu converted, %zu skipped, %zu failed -> %s.json, %s.md\n", parts.size(),
+                merged.materials.size(), merged.count(batch::MaterialStatus::Converted),
+                merged.count(batch::MaterialStatus::Skipped), merged.count(batch::MaterialStatus::Failed), base.c_str(),
+                base.c_str());
+    for (const std::string& w : merged.warnings) std::fprintf(stderr, "npf batch: warning: %s\n", w.c_str());
+    for (const batch::MaterialResult& m : merged.materials) {
+        if (m.status == batch::MaterialStatus::Failed) std::fprintf(stderr, "npf batch: failed: %s: %s\n", m.name.c_str(), m.reason.c_str());
+    }
+    const bool complete = merged.shards.size() == std::size_t(merged.shard_count) && merged.materials.size() >= merged.config_materials;
+    return merged.ok() && complete && unreadable.empty() ? 0 : kSomeFailed;
+}
+
+}  // namespace
+
+int run_batch(const std::vector<std::string>& args) {
+    CommandLine cl("batch", args, kFlags);
+    if (cl.has("--help") || (!cl.has("--merge") && cl.positional().size() != 1)) {
+        std::printf("usage: npf batch CONFIG.yaml [--shard K/N] [--summary BASE] [--force] [--threads N] [--check] [--quiet]\n"
+                    "       npf batch --merge SUMMARY.json... [-o BASE]\n\n"
+                    "Converts every material a YAML configuration names (inputs, defaults, per-material overrides,\n"
+                    "edits, validation renders; docs/batch.md, configs/batch/example.yaml). An output whose content\n"
+                    "hash (input bytes, resolved settings, edit recipe, npf version) matches is skipped; outputs\n"
+                    "appear only when complete, so an interrupted batch resumes where it stopped. A material that\n"
+                    "fails is reported and the others go on. Writes BASE.json and BASE.md summaries.\n"
+                    "Exit status: 0 all materials converted or up to date; 4 some failed (or, merging, a shard is\n"
+                    "missing); 1 the batch could not run (configuration, output folder).\n\n%s",
+                    usage_lines(kFlags).c_str());
+        return cl.has("--help") ? 0 : 2;
+    }
+    if (cl.has("--merge")) return run_merge(cl);
+
+    const batch::BatchConfig config = batch::load_batch_config(cl.positional()[0]);
+    batch::BatchOptions options;
+    if (cl.has("--shard")) options.shard = batch::parse_shard(cl.value("--shard"));
+    options.force = cl.has("--force");
+    if (cl.has("--threads")) {
+        const std::string v = cl.value("--threads");
+        char* end = nullptr;
+        const long n = std::strtol(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0' || n < 1 || n > 1024) throw Error("--threads", "needs a whole number in [1, 1024], got '" + v + "'");
+        options.threads = int(n);
+    }
+    for (const std::string& w : config.warnings) std::fprintf(stderr, "npf batch: warning: %s\n", w.c_str());
+    const std::vector<std::size_t> members = batch::shard_members(config.materials.size(), options.shard);
+    if (cl.has("--check")) {
+        std::printf("%s: %zu materials, %zu in shard %d/%d, output folder %s\n", config.path.c_str(), config.materials.size(),
+                    members.size(), options.shard.index, options.shard.count, config.output_dir.c_str());
+        for (std::size_t i : members) {
+            const batch::MaterialJob& m = config.materials[i];
+            std::printf("  %s: %s -> %s\n", m.name.c_str(), m.input.c_str(), m.output.c_str());
+        }
+        for (const std::string& s : config.skipped_by_config) std::printf("  %s: skip (configuration)\n", s.c_str());
+        return 0;
+    }
+    const bool quiet = cl.has("--quiet");
+    options.log = [quiet](const std::string& line) {
+        if (!quiet) {
+            std::printf("%s\n", line.c_str());
+            std::fflush(stdout);
+        }
+    };
+    const batch::BatchSummary summary = batch::run_batch(config, options);
+    const std::string base = cl.has("--summary") ? cl.value("--summary") : batch::summary_base(config, options.shard);
+    batch::write_summary(summary, base);
+    std::printf("%zu materials: %zu converted, %zu skipped, %zu failed in %.2f s; summary %s.json, %s.md\n",
+                summary.materials.size(), summary.count(batch::MaterialStatus::Converted),
+                summary.count(batch::MaterialStatus::Skipped), summary.count(batch::MaterialStatus::Failed), summary.seconds,
+                base.c_str(), base.c_str());
+    for (const batch::MaterialResult& m : summary.materials) {
+        if (m.status == batch::MaterialStatus::Failed) std::fprintf(stderr, "npf batch: failed: %s: %s\n", m.name.c_str(), m.reason.c_str());
+    }
+    return summary.ok() ? 0 : kSomeFailed;
+}
+
+}  // namespace npf::cli
