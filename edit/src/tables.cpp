@@ -29,8 +29,7 @@ Tables expand(const SpectralBasis& basis, std::size_t channels) {
     return t;
 }
 
-NpfModel recompress(const NpfModel& model, const Tables& d, int d_phi, const Tables& g, int g_phi, const NpfModel& like,
-                    Recompress how) {
+NpfFactors factors_of(const NpfModel& model, const Tables& d, int d_phi, const Tables& g, int g_phi) {
     NpfFactors f;
     f.grid = RusinkiewiczGrid{model.d_theta, d_phi, model.f_theta, 1};
     f.g_theta = model.g_theta;
@@ -43,6 +42,12 @@ NpfModel recompress(const NpfModel& model, const Tables& d, int d_phi, const Tab
     f.G.resize(g.v.size());
     std::transform(d.v.begin(), d.v.end(), f.D.begin(), [](double x) { return float(x); });
     std::transform(g.v.begin(), g.v.end(), f.G.begin(), [](double x) { return float(x); });
+    return f;
+}
+
+NpfModel recompress(const NpfModel& model, const Tables& d, int d_phi, const Tables& g, int g_phi, const NpfModel& like,
+                    Recompress how) {
+    const NpfFactors f = factors_of(model, d, d_phi, g, g_phi);
     CompressionOptions o;
     if (how == Recompress::KeepRank) {
         o.d_rank = like.D.rank;

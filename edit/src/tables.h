@@ -2,6 +2,7 @@
 // the SVD bases, re-compression, and moving per-channel quantities between channel sets.
 #pragma once
 
+#include <npf/converter/fit/npf_factors.h>
 #include <npf/core/channels.h>
 #include <npf/edit/edit_record.h>
 #include <npf/edit/ndf_transform.h>
@@ -23,6 +24,10 @@ struct Tables {
 
 // sum_k weights[c][k] basis[k] at every cell, not clamped (the model clamps after interpolating).
 Tables expand(const SpectralBasis& basis, std::size_t channels);
+
+// The uncompressed factors of `model` with D and G taken from `d` and `g` (on the grids given):
+// what the converter's compression takes.
+NpfFactors factors_of(const NpfModel& model, const Tables& d, int d_phi, const Tables& g, int g_phi);
 
 // The model with D and G replaced by SVD compressions of `d` and `g` (on the grids given), the
 // ranks chosen as `how` says from the input's (`like`). Everything else is copied from `model`.
