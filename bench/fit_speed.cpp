@@ -57,7 +57,7 @@ int main(int argc, char** argv) try {
         else if (a == "--iterations") o.max_iterations = std::atoi(next().c_str());
         else if (a == "--tolerance") o.tolerance = std::atof(next().c_str());
         else if (a == "--threads") o.threads = std::atoi(next().c_str());
-        else if (a == "--importance") o.importance_power = std::atof(next().c_str());
+        else if (a == "--importance") o.importance_power_view = o.importance_power_light = std::atof(next().c_str());
         else if (a == "--compressive") o.compressive_power = std::atof(next().c_str());
         else if (a == "--epsilon") o.compressive_epsilon = std::atof(next().c_str());
         else if (a == "--plain") o.extrapolate = false;

@@ -182,6 +182,57 @@ private:
     bool m_nan;
 };
 
+// Data that depend on the view direction alone (brighter towards a grazing wi): not
+// reciprocal, so the model, whose G serves both directions, must compromise, and the split w_I
+// decides for whom. At a pair and its swap the model gives one value; the side whose grazing
+// direction is not down-weighted must win.
+class ViewDependentSource : public npf::Brdf {
+public:
+    explicit ViewDependentSource(const npf::Brdf& base) : m_base(base) {}
+    const npf::BrdfInfo& info() const override { return m_base.info(); }
+    npf::ChannelQuery query(const npf::Channels& c) const override { return m_base.query(c); }
+    void eval_cos(const npf::Vec3& wi, const npf::Vec3& wo, const npf::ChannelQuery& q, float* out) const override {
+        m_base.eval_cos(wi, wo, q, out);
+        for (std::size_t c = 0; c < q.size(); ++c) out[c] *= 1.f + 2.f * (1.f - wi.z);
+    }
+    float pdf(const npf::Vec3& wi, const npf::Vec3& wo) const override { return m_base.pdf(wi, wo); }
+    bool sample(const npf::Vec3& wi, const npf::Vec2& u, const npf::ChannelQuery& q, npf::BrdfSample& s, float* w) const override {
+        return m_base.sample(wi, u, q, s, w);
+    }
+
+private:
+    const npf::Brdf& m_base;
+};
+
+TEST(Awls, ImportancePowersWeighViewAndLightSeparately) {
+    npf::AnalyticMaterial m;
+    m.diffuse = npf::color::SampledSpectrum::constant(0.5);
+    m.wavelengths = {550.f};
+    const AnalyticBrdf base(m);
+    const ViewDependentSource source(base);
+    const auto dir = [](double theta_deg, double phi) {
+        const double t = theta_deg * npf::kPiD / 180.0;
+        return Vec3d{std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t)};
+    };
+    const Vec3d grazing = dir(70.0, 0.0), steep = dir(20.0, npf::kPiD);
+    const double data_grazing_view = 0.5 / npf::kPiD * (1.0 + 2.0 * (1.0 - grazing.z));  // f_r at (grazing, steep)
+    const double data_steep_view = 0.5 / npf::kPiD * (1.0 + 2.0 * (1.0 - steep.z));      // and swapped
+    const auto fitted = [&](double view, double light) {
+        npf::AwlsOptions o = isotropic_options(24, npf::Channels::spectral({550.f}));
+        o.importance_power_view = view;
+        o.importance_power_light = light;
+        const npf::NpfFactors f = npf::fit_npf(source, o);
+        // The model is reciprocal here: the pair and its swap agree.
+        EXPECT_NEAR(f.eval(0, grazing, steep), f.eval(0, steep, grazing), 1e-6);
+        return f.eval(0, grazing, steep);
+    };
+    const double view_counts = fitted(0.0, 2.0), light_counts = fitted(2.0, 0.0);
+    // Grazing views kept: the fit follows the (grazing view, steep light) data; and the reverse.
+    EXPECT_LT(std::abs(view_counts - data_grazing_view), std::abs(light_counts - data_grazing_view));
+    EXPECT_LT(std::abs(light_counts - data_steep_view), std::abs(view_counts - data_steep_view));
+    EXPECT_GT(view_counts, 1.1 * light_counts);
+}
+
 TEST(Awls, ZeroDataGiveZeroFactorsNotNaN) {
     const AnalyticBrdf base(plastic(0.2f, 0.2f));
     const ScaledSource zero(base, 0.f);

@@ -86,7 +86,8 @@ TEST(BatchConfig, SettingsResolveAsTheConvertFlagsDo) {
     EXPECT_DOUBLE_EQ(s.compression.d_ratio, 0.9);
     EXPECT_DOUBLE_EQ(s.compression.g_ratio, 0.8);
     EXPECT_TRUE(s.compress_rgb);
-    EXPECT_DOUBLE_EQ(s.fit.importance_power, 1.0);
+    EXPECT_DOUBLE_EQ(s.fit.importance_power_view, 1.0);
+    EXPECT_DOUBLE_EQ(s.fit.importance_power_light, 1.0);
     EXPECT_TRUE(s.fit.smith_start && s.fit.bound_g);
     EXPECT_FALSE(s.fit.extrapolate);
     EXPECT_EQ(s.error_pairs, 0);
@@ -105,6 +106,14 @@ TEST(BatchConfig, SettingsResolveAsTheConvertFlagsDo) {
               "plain=true\npreset=preview\ntolerance=0.01\nwavelengths=400:700:4\n");
 }
 
+// "importance: [view, light]" splits w_I, and only then does the hash text change.
+TEST(BatchConfig, SplitImportancePowers) {
+    const batch::BatchConfig c = parse("output_dir: out\ninputs: a.bsdf\ndefaults: {importance: [1, 2]}\n");
+    const npf::ConvertSettings s = batch::resolve_convert_settings(c.materials[0].settings, true);
+    EXPECT_DOUBLE_EQ(s.fit.importance_power_view, 1.0);
+    EXPECT_DOUBLE_EQ(s.fit.importance_power_light, 2.0);
+}
+
 TEST(BatchConfig, ErrorsNameTheLineAndTheKey) {
     struct Case {
         std::string yaml, expected;
@@ -119,6 +128,8 @@ TEST(BatchConfig, ErrorsNameTheLineAndTheKey) {
         {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  grid: [1, 2]\n", "cfg.yaml:4: key 'defaults.grid': expects 4 values"},
         {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  pca: [0.9, 1.5]\n", "cfg.yaml:4: key 'defaults.pca': ratios must lie in (0, 1]"},
         {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  render: {size: 64, colour: red}\n", "cfg.yaml:4: key 'defaults.render.colour': unknown key"},
+        {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  importance: [1, 2, 3]\n", "cfg.yaml:4: key 'defaults.importance': expects 2 values"},
+        {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  importance: [1, x]\n", "cfg.yaml:4: key 'defaults.importance':"},
         {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  render: maybe\n", "cfg.yaml:4: key 'defaults.render': expects true or false"},
         {"output_dir: out\ninputs: a.bsdf\nmaterials:\n  zzz: {preset: paper}\n", "cfg.yaml:4: key 'materials.zzz': no input is named 'zzz'"},
         {"output_dir: out\ninputs: a.bsdf\nmaterials:\n  a:\n    input: b.bsdf\n", "cfg.yaml:5: key 'materials.a.input': 'a' is already an input"},

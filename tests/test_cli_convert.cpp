@@ -90,6 +90,24 @@ TEST(CliConvert, MeasuredFileWithPreset) {
     EXPECT_TRUE(contains(r.out, "% of the input")) << r.out;
 }
 
+// The split importance weight reaches the fit and is recorded in the file.
+TEST(CliConvert, SplitImportancePowersAreRecorded) {
+    const std::string dir = npf::testing::temporary_folder("convert");
+    const std::vector<std::string> common = {recipe("red_plastic"), "--grid", "12,1,12,24", "--g-grid", "12,1", "--wavelengths", "rgb",
+                                             "--quiet", "--threads", "2"};
+    std::vector<std::string> split = common, same = common;
+    for (const char* a : {"-o", "", "--importance", "1,2"}) split.push_back(a);
+    for (const char* a : {"-o", "", "--importance", "2"}) same.push_back(a);
+    split[split.size() - 3] = dir + "/split.exr";
+    same[same.size() - 3] = dir + "/same.exr";
+    ASSERT_EQ(convert(split).status, 0);
+    ASSERT_EQ(convert(same).status, 0);
+    const ToolRun a = npf::testing::run_tool({"info", dir + "/split.exr"});
+    const ToolRun b = npf::testing::run_tool({"info", dir + "/same.exr"});
+    EXPECT_TRUE(contains(a.out, "fit_importance_power: 1,2")) << a.out;
+    EXPECT_TRUE(contains(b.out, "fit_importance_power: 2\n")) << b.out;
+}
+
 TEST(CliConvert, ErrorsNameTheProblemAndLeaveNoFile) {
     const std::string dir = npf::testing::temporary_folder("convert");
     struct Case {
@@ -102,6 +120,8 @@ TEST(CliConvert, ErrorsNameTheProblemAndLeaveNoFile) {
         {{recipe("red_plastic"), "-o", out, "--preset", "fast"}, "--preset"},
         {{recipe("red_plastic"), "-o", out, "--grid", "24,1,24"}, "--grid"},
         {{recipe("red_plastic"), "-o", out, "--pca", "0.99,1.5"}, "--pca"},
+        {{recipe("red_plastic"), "-o", out, "--importance", "1,2,3"}, "--importance"},
+        {{recipe("red_plastic"), "-o", out, "--importance", "1,x"}, "--importance"},
         {{recipe("red_plastic"), "-o", out, "--wavelengths", "700:400:x"}, "wavelengths"},
         {{recipe("red_plastic"), "-o", out, "--isotropy", "anisotropic", "--grid", "8,1,8,16"}, "phi"},
         {{recipe("red_plastic"), "-o", dir + "/no/such/folder/x.exr", "--grid", "8,1,8,16", "--g-grid", "8,1", "--wavelengths", "rgb"},

@@ -107,7 +107,11 @@ void check_value(const std::string& origin, const std::string& key, const std::s
         }
     } else if (k == "rank") {
         for (const std::string& p : parts(origin, key, v, 2)) whole(origin, key, p, 1, 100000);
-    } else if (k == "importance" || k == "compressive") number(origin, key, v);
+    } else if (k == "importance") {
+        // One power for both directions, or "view,light".
+        if (v.find(',') == std::string::npos) number(origin, key, v);
+        else for (const std::string& p : parts(origin, key, v, 2)) number(origin, key, p);
+    } else if (k == "compressive") number(origin, key, v);
     else if (k == "epsilon") {
         if (!(number(origin, key, v) > 0.0)) bad(origin, key, "must be positive");
     } else if (k == "volume_weight") one_of(origin, key, v, {"paper", "three-angle"});
@@ -211,7 +215,7 @@ struct Reader {
                     }
                 }
             } else {
-                const std::string value = (k == "grid" || k == "g_grid" || k == "pca" || k == "rank") ? list(kv.second, full)
+                const std::string value = (k == "grid" || k == "g_grid" || k == "pca" || k == "rank" || k == "importance") ? list(kv.second, full)
                                                                                                     : scalar(kv.second, full);
                 check_value(origin, full, k, value);
                 out[k] = {value, origin};
@@ -295,7 +299,11 @@ ConvertSettings resolve_convert_settings(const Settings& s, bool source_isotropi
         out.compression.d_rank = std::atoi(p[0].c_str());
         out.compression.g_rank = std::atoi(p[1].c_str());
     }
-    if (has("importance")) o.importance_power = std::strtod(val("importance").c_str(), nullptr);
+    if (has("importance")) {
+        const auto p = split(val("importance"), ',');
+        o.importance_power_view = std::strtod(p[0].c_str(), nullptr);
+        o.importance_power_light = std::strtod(p.back().c_str(), nullptr);
+    }
     if (has("compressive")) o.compressive_power = std::strtod(val("compressive").c_str(), nullptr);
     if (has("epsilon")) o.compressive_epsilon = std::strtod(val("epsilon").c_str(), nullptr);
     if (has("volume_weight")) o.volume_weight = val("volume_weight") == "paper" ? VolumeWeight::Paper : VolumeWeight::ThreeAngle;

@@ -63,7 +63,10 @@ std::string resolved_text(const ConvertSettings& s) {
     t += "g_grid=" + std::to_string(o.g_theta) + "," + std::to_string(o.g_phi) + "\n";
     t += "phi_d_samples=" + std::to_string(o.phi_d_samples) + "\n";
     t += "volume_weight=" + std::string(o.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle") + "\n";
-    t += "importance=" + g17(o.importance_power) + "\ncompressive=" + g17(o.compressive_power) +
+    // The light power only when it differs, so that symmetric settings keep their old hashes.
+    t += "importance=" + g17(o.importance_power_view) +
+         (o.importance_power_light != o.importance_power_view ? "," + g17(o.importance_power_light) : std::string()) +
+         "\ncompressive=" + g17(o.compressive_power) +
          "\nepsilon=" + g17(o.compressive_epsilon) + "\n";
     t += "extrapolate=" + std::to_string(o.extrapolate) + "\nsmith_start=" + std::to_string(o.smith_start) +
          "\nbound_g=" + std::to_string(o.bound_g) + "\n";

@@ -159,7 +159,10 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
     m.emplace_back("fit_phi_d_samples", std::to_string(o.phi_d_samples > 0 ? o.phi_d_samples : g.phi_d));
     m.emplace_back("fit_samples", std::to_string(report.fit.samples));
     m.emplace_back("fit_volume_weight", o.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle");
-    m.emplace_back("fit_importance_power", text(o.importance_power));
+    // One value when symmetric (as before the split), else "view,light".
+    m.emplace_back("fit_importance_power", o.importance_power_view == o.importance_power_light
+                                               ? text(o.importance_power_view)
+                                               : text(o.importance_power_view) + "," + text(o.importance_power_light));
     m.emplace_back("fit_compressive_power", text(o.compressive_power));
     m.emplace_back("fit_compressive_epsilon", text(o.compressive_epsilon));
     m.emplace_back("fit_max_iterations", std::to_string(o.max_iterations));

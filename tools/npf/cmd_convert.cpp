@@ -27,7 +27,7 @@ const std::vector<FlagSpec> kFlags = {
     {"--phi-d-samples", true, "phi_d samples per ring (0: every grid cell)"},
     {"--pca", true, "cumulative contribution ratios D,G kept by the SVD (e.g. 0.99,0.95; 1 = lossless)"},
     {"--rank", true, "fixed SVD ranks D,G (overrides --pca)"},
-    {"--importance", true, "w_I power p: (cos_i cos_o)^p"},
+    {"--importance", true, "w_I powers: P for (cos_i cos_o)^P, or PV,PL for cos_i^PV cos_o^PL (1,2 weighs errors as a render does; docs/fitting.md)"},
     {"--compressive", true, "w_C power q: (rho + eps)^-q"},
     {"--epsilon", true, "w_C epsilon (1/sr)"},
     {"--volume-weight", true, "paper (default) or three-angle (Bagher et al.)"},
@@ -132,7 +132,16 @@ int run_convert(const std::vector<std::string>& args) {
         s.compression.d_rank = int(whole("--rank", p[0], 1, 100000));
         s.compression.g_rank = int(whole("--rank", p[1], 1, 100000));
     }
-    if (cl.has("--importance")) o.importance_power = number("--importance", cl.value("--importance"));
+    if (cl.has("--importance")) {
+        const std::string v = cl.value("--importance");
+        if (v.find(',') == std::string::npos) {
+            o.importance_power_view = o.importance_power_light = number("--importance", v);
+        } else {
+            const auto p = parts("--importance", v, 2);
+            o.importance_power_view = number("--importance", p[0]);
+            o.importance_power_light = number("--importance", p[1]);
+        }
+    }
     if (cl.has("--compressive")) o.compressive_power = number("--compressive", cl.value("--compressive"));
     if (cl.has("--epsilon")) {
         o.compressive_epsilon = number("--epsilon", cl.value("--epsilon"));

@@ -28,7 +28,7 @@ void check_options(const AwlsOptions& o) {
     }
     if (o.phi_d_samples < 0 || o.phi_d_samples > 4096) throw Error("fit", "phi_d samples must be in 0..4096");
     if (!(o.tolerance >= 0.0) || o.max_iterations < 1) throw Error("fit", "need at least one iteration and a tolerance >= 0");
-    if (!std::isfinite(o.importance_power) || !std::isfinite(o.compressive_power) || !(o.compressive_epsilon > 0.0)) {
+    if (!std::isfinite(o.importance_power_view) || !std::isfinite(o.importance_power_light) || !std::isfinite(o.compressive_power) || !(o.compressive_epsilon > 0.0)) {
         throw Error("fit", "weight powers must be finite and the compressive epsilon positive");
     }
 }

@@ -104,7 +104,7 @@ SampleSet make_sample_set(const AwlsOptions& o, int threads) {
                         add_direction(wi, p.gi, p.gi2, p.ti);
                         add_direction(wo, p.go, p.go2, p.to);
                         p.inv_cc.push_back(float(1.0 / (wi.z * wo.z)));
-                        p.geometry.push_back(float(wv * std::pow(wi.z * wo.z, o.importance_power)));
+                        p.geometry.push_back(float(wv * std::pow(wi.z, o.importance_power_view) * std::pow(wo.z, o.importance_power_light)));
                         for (double v : {wi.x, wi.y, wi.z, wo.x, wo.y, wo.z}) p.directions.push_back(float(v));
                         ++count;
                     }

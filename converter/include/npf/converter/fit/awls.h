@@ -32,9 +32,14 @@ struct AwlsOptions {
     // memory on the 4D anisotropic grid; the factor tables keep their full resolution.
     int phi_d_samples = 0;
     VolumeWeight volume_weight = VolumeWeight::Paper;
-    // w_I = (cos theta_i cos theta_o)^importance_power (0 disables);
+    // w_I = cos(theta_i)^importance_power_view cos(theta_o)^importance_power_light (0 disables);
     // w_C = (max(rho, 0) + compressive_epsilon)^-compressive_power (0 disables).
-    double importance_power = 2.0;   // chosen by bench/weight_sweep.sh (docs/fitting.md)
+    // wi is the side a renderer's camera is on (core/brdf.h), so the two powers say how much
+    // grazing views and grazing light matter. A rendered image's squared error weighs the view
+    // by cos theta_i (pixels per solid angle of normals) and the light by cos^2 theta_o, so (1, 2)
+    // is the render-derived choice; the symmetric (2, 2) fits BRDF values best (docs/fitting.md).
+    double importance_power_view = 2.0;   // chosen by bench/weight_sweep.sh (docs/fitting.md)
+    double importance_power_light = 2.0;
     double compressive_power = 0.0;
     double compressive_epsilon = 0.01;
     // Line-search extrapolation after each sweep (docs/fitting.md): fewer sweeps to the same
