@@ -57,6 +57,34 @@ FloatImage read_scene_image(const std::string& path) {
     return image;
 }
 
+void write_png_8bit(const std::string& path, std::size_t width, std::size_t height, int channels,
+                    const std::vector<std::uint8_t>& bytes, const std::vector<std::pair<std::string, std::string>>& attributes) {
+    if (channels != 3 && channels != 4) throw Error(path, "a PNG here has 3 or 4 channels, not " + std::to_string(channels));
+    if (width == 0 || height == 0 || bytes.size() != width * height * static_cast<std::size_t>(channels))
+        throw Error(path, "image size and pixel count disagree (or the image is empty)");
+    constexpr std::size_t kMaxSide = 1u << 20;  // PNG and OIIO take int sizes; no real image is larger
+    if (width > kMaxSide || height > kMaxSide) throw Error(path, "image too large for PNG");
+
+    AtomicOutput atomic(path);
+    // The temporary name does not end in .png, so the format is named explicitly.
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
+    if (!out) throw Error(path, "this build of OpenImageIO cannot write PNG: " + first_line(OIIO::geterror()));
+    OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height), channels, OIIO::TypeUInt8);
+    if (channels == 4) {
+        spec.alpha_channel = 3;
+        spec.attribute("oiio:UnassociatedAlpha", 1);  // already straight: store as is
+    }
+    spec.attribute("Software", "npf");
+    for (const auto& a : attributes) spec.attribute(a.first, a.second);
+    if (!out->open(atomic.temporary_path(), spec))
+        throw Error(path, "cannot create output: " + first_line(out->geterror()));
+    if (!out->write_image(OIIO::TypeUInt8, bytes.data()))
+        throw Error(path, "cannot write the pixels: " + first_line(out->geterror()));
+    if (!out->close()) throw Error(path, "cannot finish output: " + first_line(out->geterror()));
+    out.reset();
+    atomic.commit();
+}
+
 void write_display_png(const std::string& path, const FloatImage& image, const DisplayTransform& transform) {
     const int nc = image.channels;
     if (nc != 3 && nc != 4)
@@ -80,25 +108,7 @@ void write_display_png(const std::string& path, const FloatImage& image, const D
     transform.apply(display.data(), image.width, image.height, nc);
     std::vector<std::uint8_t> bytes(display.size());
     std::transform(display.begin(), display.end(), bytes.begin(), to_8bit);
-
-    AtomicOutput atomic(path);
-    // The temporary name does not end in .png, so the format is named explicitly.
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
-    if (!out) throw Error(path, "this build of OpenImageIO cannot write PNG: " + first_line(OIIO::geterror()));
-    OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), nc, OIIO::TypeUInt8);
-    if (nc == 4) {
-        spec.alpha_channel = 3;
-        spec.attribute("oiio:UnassociatedAlpha", 1);  // already straight: store as is
-    }
-    spec.attribute("Software", "npf");
-    spec.attribute("npf:display", transform.display() + " / " + transform.view());
-    if (!out->open(atomic.temporary_path(), spec))
-        throw Error(path, "cannot create output: " + first_line(out->geterror()));
-    if (!out->write_image(OIIO::TypeUInt8, bytes.data()))
-        throw Error(path, "cannot write the pixels: " + first_line(out->geterror()));
-    if (!out->close()) throw Error(path, "cannot finish output: " + first_line(out->geterror()));
-    out.reset();
-    atomic.commit();
+    write_png_8bit(path, image.width, image.height, nc, bytes, {{"npf:display", transform.display() + " / " + transform.view()}});
 }
 
 }  // namespace npf::color

@@ -4,7 +4,9 @@
 #include <npf/color/display.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace npf::color {
@@ -28,5 +30,13 @@ FloatImage read_scene_image(const std::string& path);
 // naming `path` (3 or 4 channels only, pixel count matching the size, unwritable folder);
 // on failure nothing is left at `path` or beside it.
 void write_display_png(const std::string& path, const FloatImage& image, const DisplayTransform& transform);
+
+// The PNG writer under write_display_png, for images already in 8-bit display values (heatmaps,
+// plots): `bytes` holds width * height * channels values, rows top to bottom; 3 channels or 4
+// (straight alpha). `attributes` become text chunks (Software is npf). Atomic and throwing as
+// write_display_png.
+void write_png_8bit(const std::string& path, std::size_t width, std::size_t height, int channels,
+                    const std::vector<std::uint8_t>& bytes,
+                    const std::vector<std::pair<std::string, std::string>>& attributes = {});
 
 }  // namespace npf::color
