@@ -55,24 +55,8 @@ Dir times(const Mat3& a, const Dir& v) {
 
 bool tangent_plane(const Mat3& m) { return m(0, 2) == 0.0 && m(1, 2) == 0.0 && m(2, 0) == 0.0 && m(2, 1) == 0.0; }
 
-struct Bilinear {
-    std::size_t index[4];
-    double weight[4];
-};
-
-Bilinear bilinear(const table::Lerp& row, const table::Lerp& col, int cols) {
-    Bilinear b;
-    const std::size_t r0 = std::size_t(row.i0) * std::size_t(cols), r1 = std::size_t(row.i1) * std::size_t(cols);
-    b.index[0] = r0 + std::size_t(col.i0);
-    b.index[1] = r0 + std::size_t(col.i1);
-    b.index[2] = r1 + std::size_t(col.i0);
-    b.index[3] = r1 + std::size_t(col.i1);
-    b.weight[0] = (1 - row.t) * (1 - col.t);
-    b.weight[1] = (1 - row.t) * col.t;
-    b.weight[2] = row.t * (1 - col.t);
-    b.weight[3] = row.t * col.t;
-    return b;
-}
+using table::Bilinear;
+using table::bilinear;
 
 // Where a unit direction falls on D's table (NpfModel::prepare's rule) and on G's.
 Bilinear d_position(const Dir& h, int d_theta, int d_phi) {

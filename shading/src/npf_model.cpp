@@ -21,20 +21,7 @@ using table::periodic;
 using table::extrapolated;
 using table::polar;
 using table::azimuth;
-
-NpfModel::Lookup::Bilinear bilinear(const Lerp& row, const Lerp& col, int cols) {
-    NpfModel::Lookup::Bilinear b;
-    const std::size_t r0 = std::size_t(row.i0) * std::size_t(cols), r1 = std::size_t(row.i1) * std::size_t(cols);
-    b.index[0] = r0 + std::size_t(col.i0);
-    b.index[1] = r0 + std::size_t(col.i1);
-    b.index[2] = r1 + std::size_t(col.i0);
-    b.index[3] = r1 + std::size_t(col.i1);
-    b.weight[0] = (1 - row.t) * (1 - col.t);
-    b.weight[1] = (1 - row.t) * col.t;
-    b.weight[2] = row.t * (1 - col.t);
-    b.weight[3] = row.t * col.t;
-    return b;
-}
+using table::bilinear;
 
 // G's cell position for one direction.
 NpfModel::Lookup::Bilinear g_position(double x, double y, double z, int g_theta, int g_phi, double& row,

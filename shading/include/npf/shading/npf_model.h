@@ -23,6 +23,7 @@
 
 #include <npf/core/channels.h>
 #include <npf/core/vec.h>
+#include <npf/shading/table_interpolation.h>
 
 #include <cstddef>
 #include <string>
@@ -75,10 +76,7 @@ struct NpfModel {
     // Everything about one direction pair that every channel shares. No member initialisers:
     // prepare() fills every field, and the shading hot path should not pay for zeroing.
     struct Lookup {
-        struct Bilinear {
-            std::size_t index[4];
-            double weight[4];
-        };
+        using Bilinear = table::Bilinear;
         double cos_i, cos_o, inv_cos_product;  // inv: 1 / (cos_i cos_o)
         // The half vector's angles (phi_h is 0 for an isotropic D) and cos theta_d = wi . h, for
         // the sampler's pdf.

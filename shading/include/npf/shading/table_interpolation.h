@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace npf::table {
 
@@ -15,6 +16,27 @@ struct Lerp {
     int i0 = 0, i1 = 0;
     double t = 0.0;  // weight of i1
 };
+
+// The four corners of a 2D table (row-major, `cols` per row) around a position and their
+// weights, from a Lerp along each axis.
+struct Bilinear {
+    std::size_t index[4];
+    double weight[4];
+};
+
+inline Bilinear bilinear(const Lerp& row, const Lerp& col, int cols) {
+    Bilinear b;
+    const std::size_t r0 = std::size_t(row.i0) * std::size_t(cols), r1 = std::size_t(row.i1) * std::size_t(cols);
+    b.index[0] = r0 + std::size_t(col.i0);
+    b.index[1] = r0 + std::size_t(col.i1);
+    b.index[2] = r1 + std::size_t(col.i0);
+    b.index[3] = r1 + std::size_t(col.i1);
+    b.weight[0] = (1 - row.t) * (1 - col.t);
+    b.weight[1] = (1 - row.t) * col.t;
+    b.weight[2] = row.t * (1 - col.t);
+    b.weight[3] = row.t * col.t;
+    return b;
+}
 
 // Clamped at the outer centres (theta axes of D and F).
 inline Lerp clamped(double x, int n) {
