@@ -4,6 +4,8 @@
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
 
+#include <npf/converter/yaml_context.h>
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -130,16 +132,8 @@ void check_value(const std::string& origin, const std::string& key, const std::s
 
 // ---- YAML reading ---------------------------------------------------------------------------
 
-struct Reader {
-    std::string source, base_dir;
-
-    std::string where(const YAML::Node& node) const {
-        const YAML::Mark mark = node.Mark();
-        return mark.line >= 0 ? source + ":" + std::to_string(mark.line + 1) : source;
-    }
-    [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const {
-        throw Error(where(node), (key.empty() ? "" : "key '" + key + "': ") + problem);
-    }
+// Unknown keys are named with their parent ("defaults.presett"): settings nest.
+struct Reader : YamlContext {
     std::string scalar(const YAML::Node& node, const std::string& key) const {
         if (!node.IsScalar()) fail(node, key, "expected a single value");
         return node.Scalar();
@@ -165,22 +159,6 @@ struct Reader {
         std::string out;
         for (const YAML::Node& item : node) out += (out.empty() ? "" : ",") + scalar(item, key);
         return out;
-    }
-    // The mapping's keys must be in `allowed`, each once, none without a value.
-    void only(const YAML::Node& map, const std::string& key, const std::vector<std::string>& allowed) const {
-        if (!map.IsMap()) fail(map, key, "expected a mapping");
-        std::set<std::string> seen;
-        for (const auto& kv : map) {
-            if (!kv.first.IsScalar()) fail(kv.first, key, "keys must be plain names");
-            const std::string k = kv.first.Scalar();
-            if (std::find(allowed.begin(), allowed.end(), k) == allowed.end()) {
-                std::string names;
-                for (const std::string& a : allowed) names += (names.empty() ? "" : ", ") + a;
-                fail(kv.first, (key.empty() ? "" : key + ".") + k, "unknown key (expected one of: " + names + ")");
-            }
-            if (!seen.insert(k).second) fail(kv.first, k, "given twice");
-            if (kv.second.IsNull()) fail(kv.first, k, "has no value");
-        }
     }
 
     // Settings of a `defaults` or `materials.NAME` mapping (other keys are left to the caller).
@@ -342,7 +320,10 @@ std::string canonical_settings(const Settings& settings) {
 }
 
 BatchConfig parse_batch_config(const std::string& yaml, const std::string& source, const std::string& base_dir) {
-    const Reader rd{source, base_dir};
+    Reader rd;
+    rd.source = source;
+    rd.base_dir = base_dir;
+    rd.qualify_unknown_keys = true;
     YAML::Node root;
     try {
         root = YAML::Load(yaml);

@@ -1,6 +1,7 @@
 #include <npf/converter/material_recipe.h>
 
 #include <npf/converter/data_files.h>
+#include <npf/converter/yaml_context.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
 
@@ -19,9 +20,7 @@ const char* const kDefaultWavelengths = "360:1000:195";
 namespace {
 
 // Errors name the recipe, the line and the key, like "recipe.yaml:7: key 'alpha': ...".
-struct Context {
-    std::string source;
-
+struct Context : YamlContext {
     // Runs make(); an npf::Error it throws (a bad index file, a Fresnel value out of range)
     // is reported at this node and key instead.
     template <typename Make>
@@ -32,58 +31,6 @@ struct Context {
             fail(node, key, e.source().empty() || e.source() == "Fresnel" || e.source() == "spectrum"
                                 ? e.problem()
                                 : e.source() + ": " + e.problem());
-        }
-    }
-
-    [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const {
-        const YAML::Mark mark = node.Mark();
-        const std::string where = mark.line >= 0 ? source + ":" + std::to_string(mark.line + 1) : source;
-        throw Error(where, (key.empty() ? "" : "key '" + key + "': ") + problem);
-    }
-
-    double number(const YAML::Node& node, const std::string& key) const {
-        if (!node.IsScalar()) fail(node, key, "expected a number");
-        try {
-            const double v = node.as<double>();
-            if (!std::isfinite(v)) fail(node, key, "not a finite number");
-            return v;
-        } catch (const YAML::Exception&) {
-            fail(node, key, "'" + node.Scalar() + "' is not a number");
-        }
-    }
-
-    int whole(const YAML::Node& node, const std::string& key, int lo, int hi) const {
-        const double v = number(node, key);
-        if (v != std::floor(v) || v < lo || v > hi) {
-            fail(node, key, "expected a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-        }
-        return int(v);
-    }
-
-    std::string text(const YAML::Node& node, const std::string& key) const {
-        if (!node.IsScalar()) fail(node, key, "expected text");
-        return node.Scalar();
-    }
-
-    // Every key of a mapping must be one of `allowed`.
-    void only(const YAML::Node& map, const std::string& key, std::initializer_list<const char*> allowed,
-              std::initializer_list<const char*> may_be_empty = {}) const {
-        if (!map.IsMap()) fail(map, key, "expected a mapping");
-        const std::set<std::string> names(allowed.begin(), allowed.end());
-        std::set<std::string> seen;
-        for (const auto& kv : map) {
-            const std::string k = kv.first.Scalar();
-            if (!names.count(k)) {
-                std::string list;
-                for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-                fail(kv.first, k, "unknown key (expected one of: " + list + ")");
-            }
-            // YAML parsers keep one of two equal keys silently; a recipe should not.
-            if (!seen.insert(k).second) fail(kv.first, k, "given twice");
-            // An empty value's own position is past it: report the key's line.
-            const bool empty_allowed = std::find_if(may_be_empty.begin(), may_be_empty.end(),
-                                                    [&](const char* e) { return k == e; }) != may_be_empty.end();
-            if (kv.second.IsNull() && !empty_allowed) fail(kv.first, k, "has no value");
         }
     }
 };
@@ -274,7 +221,8 @@ Fresnel conductor_fresnel(const std::string& metal, const std::string& what) {
 }
 
 MaterialRecipe parse_material_recipe(const std::string& yaml, const std::string& source, const std::string& base_dir) {
-    const Context cx{source};
+    Context cx;
+    cx.source = source;
     YAML::Node root;
     try {
         root = YAML::Load(yaml);

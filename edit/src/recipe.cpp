@@ -10,6 +10,8 @@
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
 
+#include <npf/converter/yaml_context.h>
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -24,64 +26,8 @@ namespace npf::edit {
 namespace {
 
 // Errors name the recipe, the line and the key: "recipe.yaml:7: key 'stretch': ...".
-struct Context {
-    std::string source, base_dir;
-
-    std::string where(const YAML::Node& node) const {
-        const YAML::Mark mark = node.Mark();
-        return mark.line >= 0 ? source + ":" + std::to_string(mark.line + 1) : source;
-    }
-
-    [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const {
-        throw Error(where(node), (key.empty() ? "" : "key '" + key + "': ") + problem);
-    }
-
-    double number(const YAML::Node& node, const std::string& key) const {
-        if (!node.IsScalar()) fail(node, key, "expected a number");
-        try {
-            const double v = node.as<double>();
-            if (!std::isfinite(v)) fail(node, key, "not a finite number");
-            return v;
-        } catch (const YAML::Exception&) {
-            fail(node, key, "'" + node.Scalar() + "' is not a number");
-        }
-    }
-
-    double positive(const YAML::Node& node, const std::string& key) const {
-        const double v = number(node, key);
-        if (!(v > 0.0)) fail(node, key, "must be positive, got " + detail::num(v));
-        return v;
-    }
-
-    std::string text(const YAML::Node& node, const std::string& key) const {
-        if (!node.IsScalar()) fail(node, key, "expected text");
-        return node.Scalar();
-    }
-
-    std::string path(const YAML::Node& node, const std::string& key) const {
-        std::string p = text(node, key);
-        if (p.empty()) fail(node, key, "empty path");
-        if (p[0] != '/' && !base_dir.empty()) p = base_dir + "/" + p;
-        return p;
-    }
-
-    // Every key of a mapping must be one of `allowed`, none twice, none empty.
-    void only(const YAML::Node& map, const std::string& key, std::initializer_list<const char*> allowed) const {
-        if (!map.IsMap()) fail(map, key, "expected a mapping");
-        const std::set<std::string> names(allowed.begin(), allowed.end());
-        std::set<std::string> seen;
-        for (const auto& kv : map) {
-            const std::string k = kv.first.Scalar();
-            if (!names.count(k)) {
-                std::string list;
-                for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-                fail(kv.first, k, "unknown key (expected one of: " + list + ")");
-            }
-            if (!seen.insert(k).second) fail(kv.first, k, "given twice");
-            if (kv.second.IsNull()) fail(kv.first, k, "has no value");
-        }
-    }
-
+struct Context : YamlContext {
+    // Runs make(); an npf::Error it throws is reported at this node and key instead.
     template <typename Make>
     auto at(const YAML::Node& node, const std::string& key, Make make) const -> decltype(make()) {
         try {
@@ -418,7 +364,9 @@ FilmBase parse_film_base(const std::string& text, const std::string& what) {
 }
 
 EditRecipe parse_edit_recipe(const std::string& yaml, const std::string& source, const std::string& base_dir) {
-    const Context cx{source, base_dir};
+    Context cx;
+    cx.source = source;
+    cx.base_dir = base_dir;
     YAML::Node root;
     try {
         root = YAML::Load(yaml);

@@ -1,0 +1,37 @@
+// Reading a YAML file whose errors name the file, the line and the key:
+//   "recipe.yaml:7: key 'alpha': expected a number".
+// One implementation for the analytic recipes, the edit recipes and the batch configurations.
+// Needs yaml-cpp (which every user of it already parses with).
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+#include <vector>
+
+namespace npf {
+
+struct YamlContext {
+    std::string source;    // the file's name as errors show it
+    std::string base_dir;  // relative paths are taken from here (empty: as given)
+    // Unknown keys are reported as 'parent.key' rather than 'key' (batch files nest settings).
+    bool qualify_unknown_keys = false;
+
+    // "source:LINE" where the node has a position, else "source".
+    std::string where(const YAML::Node& node) const;
+    [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const;
+
+    double number(const YAML::Node& node, const std::string& key) const;  // finite
+    double positive(const YAML::Node& node, const std::string& key) const;
+    int whole(const YAML::Node& node, const std::string& key, int lo, int hi) const;
+    std::string text(const YAML::Node& node, const std::string& key) const;  // any scalar
+    // A non-empty path, relative ones from base_dir.
+    std::string path(const YAML::Node& node, const std::string& key) const;
+
+    // Every key of `map` must be one of `allowed`, each once, and hold a value unless listed in
+    // `may_be_empty`. YAML parsers keep one of two equal keys silently; a file should not.
+    void only(const YAML::Node& map, const std::string& key, const std::vector<std::string>& allowed,
+              const std::vector<std::string>& may_be_empty = {}) const;
+};
+
+}  // namespace npf
