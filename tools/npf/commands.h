@@ -14,6 +14,7 @@ int run_convert(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
 int run_display(const std::vector<std::string>& args);
 int run_render(const std::vector<std::string>& args);
+int run_albedo(const std::vector<std::string>& args);
 int run_compare(const std::vector<std::string>& args);
 int run_edit(const std::vector<std::string>& args);
 int run_batch(const std::vector<std::string>& args);

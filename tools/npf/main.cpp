@@ -25,6 +25,7 @@ const Subcommand kSubcommands[] = {
     {"bench", npf::cli::run_bench, "time shading with an NPF texture (eval, sample, pdf) against its source"},
     {"display", npf::cli::run_display, "write a scene-linear or XYZ image as a display-encoded PNG (OpenColorIO)"},
     {"render", npf::cli::run_render, "path-trace a material on the Sphere scene under an environment map"},
+    {"albedo", npf::cli::run_albedo, "directional albedo against view angle; with two materials, where they differ"},
     {"compare", npf::cli::run_compare, "PSNR, SSIM, relMSE and MAPE of a test image against a reference"},
     {"edit", npf::cli::run_edit, "edit a fitted material: NDF transforms, diffuse/specular colour, thin-film Fresnel"},
     {"batch", npf::cli::run_batch, "convert a material library from a YAML batch: resumable, shardable, failure-isolated"},
