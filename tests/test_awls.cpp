@@ -233,6 +233,30 @@ TEST(Awls, ImportancePowersWeighViewAndLightSeparately) {
     EXPECT_GT(view_counts, 1.1 * light_counts);
 }
 
+// Partial sums are per slice of the samples, not per thread, and added in a fixed order: the
+// factors are the same to the bit on 1, 2, 3 or 5 threads (batch outputs, farm and laptop).
+TEST(Awls, TheFitDoesNotDependOnTheThreadCount) {
+    const AnalyticBrdf source(plastic(0.15f, 0.3f));
+    npf::AwlsOptions o;
+    o.grid = {16, 8, 16, 16};
+    o.g_theta = 16;
+    o.g_phi = 8;
+    o.channels = npf::Channels::spectral({450.f, 550.f, 650.f});
+    o.max_iterations = 20;
+    std::vector<npf::NpfFactors> fits;
+    for (int threads : {1, 2, 3, 5}) {
+        o.threads = threads;
+        fits.push_back(npf::fit_npf(source, o));
+    }
+    for (std::size_t k = 1; k < fits.size(); ++k) {
+        EXPECT_EQ(fits[k].D, fits[0].D) << k;
+        EXPECT_EQ(fits[k].F, fits[0].F) << k;
+        EXPECT_EQ(fits[k].G, fits[0].G) << k;
+        EXPECT_EQ(fits[k].rho_d, fits[0].rho_d) << k;
+        EXPECT_EQ(fits[k].rho_s, fits[0].rho_s) << k;
+    }
+}
+
 TEST(Awls, ZeroDataGiveZeroFactorsNotNaN) {
     const AnalyticBrdf base(plastic(0.2f, 0.2f));
     const ScaledSource zero(base, 0.f);

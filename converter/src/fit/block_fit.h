@@ -51,14 +51,24 @@ private:
     // projected area of D seen from w (so the table, G / cos, is 1 / sigma).
     void smith_g_from_d(BlockFactors<L>& f) const;
 
+    // Runs body(slice) for every slice, the slices shared out over the threads.
+    template <typename Body>
+    void for_each_slice(Body body) const;
+
+    // The samples are cut into a fixed number of slices (D-cell ranges of about equal sample
+    // counts), each with its own partial sums, added in slice order: the fit is then the same
+    // to the bit whatever the number of threads.
+    static constexpr int kSlices = 16;
+
     const SampleSet& m_s;
     const AwlsOptions& m_o;
-    std::vector<std::size_t> m_split;  // D-cell ranges of the threads
+    std::vector<std::size_t> m_split;  // D-cell ranges of the slices
+    int m_threads = 1;
     std::vector<float> m_rho, m_w;     // [samples][L]
     std::array<double, L> m_sw{}, m_swr{}, m_swrr{};  // sums of w, w rho, w rho^2
     std::vector<double> m_cell;        // per D cell: [3][L] sums of the D update
-    std::vector<std::vector<float>> m_g_acc;  // per thread: [2][g_cells][L]
-    std::vector<std::vector<double>> m_f_acc; // per thread: [2][f_cells][L]
+    std::vector<std::vector<float>> m_g_acc;  // per slice: [2][g_cells][L]
+    std::vector<std::vector<double>> m_f_acc; // per slice: [2][f_cells][L]
     bool m_trace = false;                     // NPF_AWLS_TRACE: print the error per iteration
 };
 

@@ -30,21 +30,32 @@ inline void interpolate_g(const std::vector<float>& G, const SampleSet& s, std::
 
 template <int L>
 BlockFit<L>::BlockFit(const SampleSet& samples, const AwlsOptions& options, int threads)
-    : m_s(samples), m_o(options), m_split(balanced_cell_split(samples, threads)), m_trace(std::getenv("NPF_AWLS_TRACE") != nullptr) {
+    : m_s(samples),
+      m_o(options),
+      m_split(balanced_cell_split(samples, kSlices)),
+      m_threads(std::clamp(threads, 1, kSlices)),
+      m_trace(std::getenv("NPF_AWLS_TRACE") != nullptr) {
     m_rho.resize(samples.size() * L);
     m_w.resize(samples.size() * L);
     m_cell.resize(samples.d_cells * 3 * L);
-    m_g_acc.resize(std::size_t(threads));
-    m_f_acc.resize(std::size_t(threads));
+    m_g_acc.resize(std::size_t(kSlices));
+    m_f_acc.resize(std::size_t(kSlices));
+}
+
+template <int L>
+template <typename Body>
+void BlockFit<L>::for_each_slice(Body body) const {
+    parallel_slices(std::size_t(kSlices), m_threads, [&](int, std::size_t b, std::size_t e) {
+        for (std::size_t slice = b; slice < e; ++slice) body(int(slice));
+    });
 }
 
 template <int L>
 std::size_t BlockFit<L>::resample(const Brdf& source, const Channels& channels) {
     const ChannelQuery query = source.query(channels);
     const std::size_t n = query.size();
-    const int threads = int(m_split.size()) - 1;
-    std::vector<std::size_t> invalid(std::size_t(threads), 0);
-    parallel_slices(m_s.size(), threads, [&](int t, std::size_t b, std::size_t e) {
+    std::vector<std::size_t> invalid(std::size_t(m_threads), 0);
+    parallel_slices(m_s.size(), m_threads, [&](int t, std::size_t b, std::size_t e) {
         std::vector<float> v(n);
         for (std::size_t s = b; s < e; ++s) {
             const float* d = &m_s.directions[6 * s];
@@ -116,8 +127,7 @@ BlockFactors<L> BlockFit<L>::warm_start(const BlockFactors<L>& from, int lane) c
 // for rho_d, then back-substitute (both clamped at 0).
 template <int L>
 void BlockFit<L>::update_d_and_diffuse(BlockFactors<L>& f) {
-    const int threads = int(m_split.size()) - 1;
-    parallel_slices(std::size_t(threads), threads, [&](int t, std::size_t, std::size_t) {
+    for_each_slice([&](int t) {
         float rs[L];
         for (int l = 0; l < L; ++l) rs[l] = float(f.rho_s[std::size_t(l)]);
         for (std::size_t k = m_split[std::size_t(t)]; k < m_split[std::size_t(t) + 1]; ++k) {
@@ -164,8 +174,7 @@ void BlockFit<L>::update_d_and_diffuse(BlockFactors<L>& f) {
 
 template <int L>
 void BlockFit<L>::update_f(BlockFactors<L>& f) {
-    const int threads = int(m_split.size()) - 1;
-    parallel_slices(std::size_t(threads), threads, [&](int t, std::size_t, std::size_t) {
+    for_each_slice([&](int t) {
         std::vector<double>& acc = m_f_acc[std::size_t(t)];
         acc.assign(2 * m_s.f_cells * L, 0.0);
         float rd[L], rs[L];
@@ -208,8 +217,7 @@ void BlockFit<L>::update_f(BlockFactors<L>& f) {
 // from oscillating between the two copies.
 template <int L>
 void BlockFit<L>::update_g(BlockFactors<L>& f) {
-    const int threads = int(m_split.size()) - 1;
-    parallel_slices(std::size_t(threads), threads, [&](int t, std::size_t, std::size_t) {
+    for_each_slice([&](int t) {
         std::vector<float>& acc = m_g_acc[std::size_t(t)];
         acc.assign(2 * m_s.g_cells * L, 0.f);
         float rd[L], rs[L];
@@ -268,9 +276,8 @@ void BlockFit<L>::update_g(BlockFactors<L>& f) {
 // constraints), whose sums also give the error.
 template <int L>
 std::array<double, L> BlockFit<L>::update_diffuse_specular(BlockFactors<L>& f) {
-    const int threads = int(m_split.size()) - 1;
-    std::vector<std::array<double, 3 * L>> sums(static_cast<std::size_t>(threads));
-    parallel_slices(std::size_t(threads), threads, [&](int t, std::size_t, std::size_t) {
+    std::vector<std::array<double, 3 * L>> sums(static_cast<std::size_t>(kSlices));
+    for_each_slice([&](int t) {
         std::array<double, 3 * L>& out = sums[std::size_t(t)];
         out.fill(0.0);
         for (std::size_t k = m_split[std::size_t(t)]; k < m_split[std::size_t(t) + 1]; ++k) {
@@ -385,9 +392,8 @@ void BlockFit<L>::smith_g_from_d(BlockFactors<L>& f) const {
     for (const Cell& c : cells) {
         for (int l = 0; l < L; ++l) area[std::size_t(l)] += c.z * c.solid_angle * f.D[c.index * L + std::size_t(l)];
     }
-    const int threads = int(m_split.size()) - 1;
     std::vector<float> G(f.G.size());
-    parallel_slices(m_s.g_cells, threads, [&](int, std::size_t b, std::size_t e) {
+    parallel_slices(m_s.g_cells, m_threads, [&](int, std::size_t b, std::size_t e) {
         for (std::size_t k = b; k < e; ++k) {
             const int row = int(k / std::size_t(m_o.g_phi)), col = int(k % std::size_t(m_o.g_phi));
             const double t = (row + 0.5) * 0.5 * kPiD / m_o.g_theta, p = m_o.g_phi == 1 ? 0.0 : (col + 0.5) * 2.0 * kPiD / m_o.g_phi;
