@@ -3,6 +3,7 @@
 // fitted texture against its source: `npf albedo fitted.npf.exr --against source.bsdf`.
 #include "command_line.h"
 #include "commands.h"
+#include "json_output.h"
 
 #include <npf/color/spectrum.h>
 #include <npf/converter/open_brdf.h>
@@ -61,23 +62,6 @@ std::string format(const char* fmt, double v) {
 
 // JSON numbers: %.9g; JSON has no infinity or NaN, so those become null.
 std::string json_number(double v) { return std::isfinite(v) ? format("%.9g", v) : "null"; }
-
-std::string json_string(const std::string& text) {
-    std::string out = "\"";
-    for (unsigned char ch : text) {
-        if (ch == '"' || ch == '\\') {
-            out += '\\';
-            out += char(ch);
-        } else if (ch < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", ch);
-            out += buf;
-        } else {
-            out += char(ch);
-        }
-    }
-    return out + "\"";
-}
 
 std::string json_array(const std::vector<double>& v) {
     std::string out = "[";

@@ -4,6 +4,7 @@
 // (the measured reader) at the same wavelengths and directions, side by side.
 #include "command_line.h"
 #include "commands.h"
+#include "json_output.h"
 
 #include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
@@ -106,24 +107,6 @@ Timing time_calls(double seconds, const std::function<double()>& batch) {
     t.seconds = elapsed;
     t.ns_per_call = 1e9 * elapsed / double(t.calls);
     return t;
-}
-
-// A JSON string literal: paths may hold quotes, backslashes or control characters.
-std::string json_string(const std::string& text) {
-    std::string out = "\"";
-    for (unsigned char ch : text) {
-        if (ch == '"' || ch == '\\') {
-            out += '\\';
-            out += char(ch);
-        } else if (ch < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", ch);
-            out += buf;
-        } else {
-            out += char(ch);
-        }
-    }
-    return out + "\"";
 }
 
 std::string json_number(double v) {

@@ -3,6 +3,7 @@
 // Definitions: docs/metrics.md.
 #include "command_line.h"
 #include "commands.h"
+#include "json_output.h"
 
 #include <npf/color/display_image.h>
 #include <npf/core/error.h>
@@ -54,24 +55,6 @@ std::string format_number(double v) {
     const double back = std::strtod(buf, nullptr);
     if (back != v && (back == 1.0 || back == 0.0)) std::snprintf(buf, sizeof buf, "%.17g", v);
     return buf;
-}
-
-// A JSON string literal: paths may hold quotes, backslashes or control characters.
-std::string json_string(const std::string& text) {
-    std::string out = "\"";
-    for (unsigned char ch : text) {
-        if (ch == '"' || ch == '\\') {
-            out += '\\';
-            out += char(ch);
-        } else if (ch < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", ch);
-            out += buf;
-        } else {
-            out += char(ch);
-        }
-    }
-    return out + "\"";
 }
 
 // JSON has no infinity: an infinite PSNR is the string "inf" (float("inf") in Python).
