@@ -108,6 +108,26 @@ TEST(CliConvert, SplitImportancePowersAreRecorded) {
     EXPECT_TRUE(contains(b.out, "fit_importance_power: 2\n")) << b.out;
 }
 
+// The summary gives the fitted model's largest directional albedo, and warns when it is above
+// 1: red plastic's diffuse term has no (1 - F), so its fit gains light at grazing views; brushed
+// copper does not.
+TEST(CliConvert, WarnsWhenTheFitReflectsMoreLightThanItReceives) {
+    const std::string dir = npf::testing::temporary_folder("convert");
+    const std::vector<std::string> small = {"--grid", "16,8,16,32", "--g-grid", "16,8", "--wavelengths", "rgb", "--quiet", "--threads", "2"};
+    std::vector<std::string> plastic = {recipe("red_plastic"), "-o", dir + "/plastic.exr"}, copper = {recipe("brushed_copper"), "-o", dir + "/copper.exr"};
+    plastic.insert(plastic.end(), small.begin(), small.end());
+    copper.insert(copper.end(), small.begin(), small.end());
+    const ToolRun p = convert(plastic), c = convert(copper);
+    ASSERT_EQ(p.status, 0) << describe(p);
+    ASSERT_EQ(c.status, 0) << describe(c);
+    EXPECT_TRUE(contains(p.out, "albedo      at most 1.")) << p.out;
+    EXPECT_TRUE(contains(p.err, "reflects more light than it receives")) << p.err;
+    EXPECT_TRUE(contains(c.out, "albedo      at most 0.")) << c.out;
+    EXPECT_FALSE(contains(c.err, "reflects more light")) << c.err;
+    const ToolRun info = npf::testing::run_tool({"info", dir + "/plastic.exr"});
+    EXPECT_TRUE(contains(info.out, "albedo_max: 1.")) << info.out;
+}
+
 TEST(CliConvert, ErrorsNameTheProblemAndLeaveNoFile) {
     const std::string dir = npf::testing::temporary_folder("convert");
     struct Case {

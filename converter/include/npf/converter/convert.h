@@ -57,6 +57,11 @@ struct ConvertReport {
     std::uint64_t input_bytes = 0, output_bytes = 0;
     double seconds_compression = 0.0, seconds_error = 0.0, seconds_writing = 0.0, seconds = 0.0;
     double peak_memory_gib = 0.0;     // of the process, when known
+    // The largest directional albedo of the written model over a few view directions (0 to 89
+    // degrees) and its channels, and where: above 1, the conversion reflects more light than it
+    // receives there (docs/albedo.md). 0 when not measured (a model without channels).
+    double albedo_max = 0.0, albedo_max_theta_deg = 0.0;
+    std::size_t albedo_max_channel = 0;
 };
 
 // Fits `source`, compresses, measures and writes `output` (NPF EXR, docs/format.md). The
