@@ -128,6 +128,8 @@ TEST(BatchCli, HostileFilesAreReportedAndTheOthersConvert) {
             EXPECT_GT(m.output_bytes, 0u);
             EXPECT_TRUE(m.ratio());
             EXPECT_TRUE(m.error_mean);
+            ASSERT_TRUE(m.albedo_max);
+            EXPECT_GT(*m.albedo_max, 0.0);
         }
     }
     EXPECT_FALSE(s.ok());

@@ -305,3 +305,30 @@ TEST(BatchSummary, MergeJoinsShardsAndWarnsAboutGaps) {
 }
 
 }  // namespace
+
+namespace {
+
+// A conversion that gains light is flagged in the Markdown summary and its albedo survives the
+// JSON round trip; one that does not is left alone.
+TEST(BatchSummary, FlagsConversionsThatGainLight) {
+    batch::BatchSummary s;
+    s.config = "cfg.yaml";
+    for (double albedo : {1.18, 0.73}) {
+        batch::MaterialResult m;
+        m.name = albedo > 1.0 ? "bright" : "dark";
+        m.status = batch::MaterialStatus::Converted;
+        m.albedo_max = albedo;
+        s.materials.push_back(m);
+    }
+    const std::string md = batch::summary_markdown(s);
+    EXPECT_TRUE(contains(md, "albedo 1.180 > 1: gains light")) << md;
+    EXPECT_FALSE(contains(md, "albedo 0.730")) << md;
+    const std::string dir = npf::testing::temporary_folder("batch-summary");
+    batch::write_summary(s, dir + "/summary");
+    const batch::BatchSummary back = batch::read_summary_json(dir + "/summary.json");
+    ASSERT_EQ(back.materials.size(), 2u);
+    ASSERT_TRUE(back.materials[0].albedo_max);
+    EXPECT_DOUBLE_EQ(*back.materials[0].albedo_max, 1.18);
+}
+
+}  // namespace

@@ -152,6 +152,7 @@ void fill_from_header(MaterialResult& r, const std::map<std::string, std::string
     r.error_max = attr_number(h, m + "error_rel_rms_max");
     r.fitted_error_mean = attr_number(h, m + "error_fitted_rel_rms_mean");
     r.fitted_error_max = attr_number(h, m + "error_fitted_rel_rms_max");
+    r.albedo_max = attr_number(h, m + "albedo_max");
     r.edits.clear();
     for (int k = 1; k < 1000; ++k) {
         char key[32];

@@ -121,6 +121,7 @@ std::string summary_json(const BatchSummary& s) {
         j += ", \"error_rel_rms_mean\": " + opt(m.error_mean) + ", \"error_rel_rms_max\": " + opt(m.error_max);
         j += ", \"fitted_error_rel_rms_mean\": " + opt(m.fitted_error_mean) +
              ", \"fitted_error_rel_rms_max\": " + opt(m.fitted_error_max);
+        j += ", \"albedo_max\": " + opt(m.albedo_max);
         j += ", \"psnr\": " + opt(m.psnr) + ", \"ssim\": " + opt(m.ssim) + ", \"relmse\": " + opt(m.relmse);
         j += ", \"edits\": [";
         for (std::size_t e = 0; e < m.edits.size(); ++e) j += (e ? ", " : "") + quoted(m.edits[e]);
@@ -156,6 +157,9 @@ std::string summary_markdown(const BatchSummary& s) {
         md += (m.ssim ? fixed(*m.ssim, 4) : "-") + " | ";
         std::string note = m.reason;
         if (!m.edits.empty()) note += (note.empty() ? "" : "; ") + std::to_string(m.edits.size()) + " edit(s)";
+        // The same threshold as npf convert's warning (about 1 % is the check's accuracy).
+        if (m.albedo_max && *m.albedo_max > 1.01)
+            note += (note.empty() ? "" : "; ") + std::string("albedo ") + fixed(*m.albedo_max, 3) + " > 1: gains light (npf albedo)";
         md += cell(note) + " |\n";
     }
     return md;
@@ -206,6 +210,7 @@ BatchSummary read_summary_json(const std::string& path) {
             m.error_max = optional(n["error_rel_rms_max"]);
             m.fitted_error_mean = optional(n["fitted_error_rel_rms_mean"]);
             m.fitted_error_max = optional(n["fitted_error_rel_rms_max"]);
+            m.albedo_max = optional(n["albedo_max"]);
             m.psnr = optional(n["psnr"]);
             m.ssim = optional(n["ssim"]);
             m.relmse = optional(n["relmse"]);

@@ -23,6 +23,9 @@ struct MaterialResult {
     // BRDF-space relative RMS error of the file (mean over channels, worst channel) and of the
     // fitted factors before compression, when measured.
     std::optional<double> error_mean, error_max, fitted_error_mean, fitted_error_max;
+    // The largest directional albedo of the output (npf convert's energy check); above 1 the
+    // conversion reflects more light than it receives somewhere.
+    std::optional<double> albedo_max;
     // Validation render of the output against one of the input (render: true).
     std::optional<double> psnr, ssim, relmse;
     std::vector<std::string> edits;  // edit history entries the batch added
