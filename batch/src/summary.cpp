@@ -2,6 +2,7 @@
 
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/core/json_text.h>
 
 #include <yaml-cpp/yaml.h>
 
@@ -15,36 +16,7 @@ namespace npf::batch {
 
 namespace {
 
-std::string quoted(const std::string& s) {
-    std::string out = "\"";
-    for (unsigned char c : s) {
-        switch (c) {
-        case '"': out += "\\\""; break;
-        case '\\': out += "\\\\"; break;
-        case '\n': out += "\\n"; break;
-        case '\r': out += "\\r"; break;
-        case '\t': out += "\\t"; break;
-        default:
-            if (c < 0x20 || c == 0x7f) {
-                char b[8];
-                std::snprintf(b, sizeof b, "\\u%04x", c);
-                out += b;
-            } else {
-                out += char(c);
-            }
-        }
-    }
-    return out + "\"";
-}
-
-std::string num(double v) {
-    if (!std::isfinite(v)) return "null";
-    char b[40];
-    std::snprintf(b, sizeof b, "%.9g", v);
-    return b;
-}
-
-std::string opt(const std::optional<double>& v) { return v ? num(*v) : "null"; }
+std::string opt(const std::optional<double>& v) { return v ? json_number(*v) : "null"; }
 
 std::string fixed(double v, int digits) {
     char b[40];
@@ -93,29 +65,29 @@ std::size_t BatchSummary::count(MaterialStatus s) const {
 std::string summary_json(const BatchSummary& s) {
     std::string j = "{\n";
     j += "  \"npf_batch_summary\": 1,\n";
-    j += "  \"config\": " + quoted(s.config) + ",\n";
+    j += "  \"config\": " + json_string(s.config) + ",\n";
     j += "  \"shard_index\": " + std::to_string(s.shard_index) + ",\n";
     j += "  \"shard_count\": " + std::to_string(s.shard_count) + ",\n";
     j += "  \"shards\": [";
     for (std::size_t i = 0; i < s.shards.size(); ++i) j += (i ? ", " : "") + std::to_string(s.shards[i]);
     j += "],\n";
     j += "  \"config_materials\": " + std::to_string(s.config_materials) + ",\n";
-    j += "  \"seconds\": " + num(s.seconds) + ",\n";
+    j += "  \"seconds\": " + json_number(s.seconds) + ",\n";
     j += "  \"counts\": {\"converted\": " + std::to_string(s.count(MaterialStatus::Converted)) +
          ", \"skipped\": " + std::to_string(s.count(MaterialStatus::Skipped)) +
          ", \"failed\": " + std::to_string(s.count(MaterialStatus::Failed)) + "},\n";
     j += "  \"ok\": " + std::string(s.ok() ? "true" : "false") + ",\n";
     j += "  \"warnings\": [";
-    for (std::size_t i = 0; i < s.warnings.size(); ++i) j += (i ? ", " : "") + quoted(s.warnings[i]);
+    for (std::size_t i = 0; i < s.warnings.size(); ++i) j += (i ? ", " : "") + json_string(s.warnings[i]);
     j += "],\n";
     j += "  \"materials\": [";
     for (std::size_t i = 0; i < s.materials.size(); ++i) {
         const MaterialResult& m = s.materials[i];
         j += i ? ",\n    {" : "\n    {";
-        j += "\"name\": " + quoted(m.name) + ", \"status\": " + quoted(status_name(m.status));
-        j += ", \"reason\": " + quoted(m.reason);
-        j += ", \"input\": " + quoted(m.input) + ", \"output\": " + quoted(m.output);
-        j += ", \"shard\": " + std::to_string(m.shard) + ", \"seconds\": " + num(m.seconds);
+        j += "\"name\": " + json_string(m.name) + ", \"status\": " + json_string(status_name(m.status));
+        j += ", \"reason\": " + json_string(m.reason);
+        j += ", \"input\": " + json_string(m.input) + ", \"output\": " + json_string(m.output);
+        j += ", \"shard\": " + std::to_string(m.shard) + ", \"seconds\": " + json_number(m.seconds);
         j += ", \"input_bytes\": " + std::to_string(m.input_bytes) + ", \"output_bytes\": " + std::to_string(m.output_bytes);
         j += ", \"ratio\": " + opt(m.ratio());
         j += ", \"error_rel_rms_mean\": " + opt(m.error_mean) + ", \"error_rel_rms_max\": " + opt(m.error_max);
@@ -124,8 +96,8 @@ std::string summary_json(const BatchSummary& s) {
         j += ", \"albedo_max\": " + opt(m.albedo_max);
         j += ", \"psnr\": " + opt(m.psnr) + ", \"ssim\": " + opt(m.ssim) + ", \"relmse\": " + opt(m.relmse);
         j += ", \"edits\": [";
-        for (std::size_t e = 0; e < m.edits.size(); ++e) j += (e ? ", " : "") + quoted(m.edits[e]);
-        j += "], \"hash\": " + quoted(m.hash) + "}";
+        for (std::size_t e = 0; e < m.edits.size(); ++e) j += (e ? ", " : "") + json_string(m.edits[e]);
+        j += "], \"hash\": " + json_string(m.hash) + "}";
     }
     j += s.materials.empty() ? "]\n}\n" : "\n  ]\n}\n";
     return j;

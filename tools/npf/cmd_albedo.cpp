@@ -3,12 +3,12 @@
 // fitted texture against its source: `npf albedo fitted.npf.exr --against source.bsdf`.
 #include "command_line.h"
 #include "commands.h"
-#include "json_output.h"
 
 #include <npf/color/spectrum.h>
 #include <npf/converter/open_brdf.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
+#include <npf/core/json_text.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -59,9 +59,6 @@ std::string format(const char* fmt, double v) {
     std::snprintf(buf, sizeof buf, fmt, v);
     return buf;
 }
-
-// JSON numbers: %.9g; JSON has no infinity or NaN, so those become null.
-std::string json_number(double v) { return std::isfinite(v) ? format("%.9g", v) : "null"; }
 
 std::string json_array(const std::vector<double>& v) {
     std::string out = "[";

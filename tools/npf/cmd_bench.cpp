@@ -4,10 +4,10 @@
 // (the measured reader) at the same wavelengths and directions, side by side.
 #include "command_line.h"
 #include "commands.h"
-#include "json_output.h"
 
 #include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
+#include <npf/core/json_text.h>
 #include <npf/core/input_file.h>
 #include <npf/shading/npf_closure.h>
 #include <npf/shading/npf_texture_file.h>

@@ -3,10 +3,10 @@
 // Definitions: docs/metrics.md.
 #include "command_line.h"
 #include "commands.h"
-#include "json_output.h"
 
 #include <npf/color/display_image.h>
 #include <npf/core/error.h>
+#include <npf/core/json_text.h>
 #include <npf/core/input_file.h>
 #include <npf/render/heatmap.h>
 #include <npf/render/image_metrics.h>
