@@ -102,6 +102,18 @@ TEST(TableAngles, Atan2MatchesTheStandardOne) {
 
 // ---- Wavelength location -------------------------------------------------------------------
 
+// How headers and messages name a channel (npf albedo's columns, npf convert's energy line).
+TEST(Channels, NamesRgbAndWavelengthChannels) {
+    const npf::Channels rgb = npf::Channels::rgb();
+    EXPECT_EQ(rgb.name(0), "R");
+    EXPECT_EQ(rgb.name(1), "G");
+    EXPECT_EQ(rgb.name(2), "B");
+    const npf::Channels spectral = npf::Channels::spectral({450.f, 552.5f});
+    EXPECT_EQ(spectral.name(0), "450nm");
+    EXPECT_EQ(spectral.name(1), "552.5nm");
+    EXPECT_THROW(spectral.name(2), std::out_of_range);
+}
+
 TEST(WavelengthLocator, AgreesWithTheSearchToTheBit) {
     std::mt19937 rng(9);
     std::uniform_real_distribution<float> uni(0.f, 1.f);

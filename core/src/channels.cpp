@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
@@ -23,6 +24,13 @@ std::string Channels::describe() const {
     os.precision(7);
     for (std::size_t i = 0; i < m_wavelengths.size(); ++i) os << (i ? " " : "") << m_wavelengths[i];
     return os.str();
+}
+
+std::string Channels::name(std::size_t c) const {
+    if (is_rgb()) return std::string(1, "RGB"[std::min<std::size_t>(c, 2)]);
+    char b[32];
+    std::snprintf(b, sizeof b, "%gnm", double(m_wavelengths.at(c)));
+    return b;
 }
 
 namespace {

@@ -117,9 +117,8 @@ int parse_count(const std::string& flag, const std::string& text, int lo, int hi
 
 // Channel names for headers and the worst-difference line.
 std::vector<std::string> channel_names(const Channels& channels) {
-    if (channels.is_rgb()) return {"R", "G", "B"};
     std::vector<std::string> names;
-    for (float w : channels.wavelengths()) names.push_back(format("%g", double(w)) + "nm");
+    for (std::size_t c = 0; c < channels.size(); ++c) names.push_back(channels.name(c));
     return names;
 }
 

@@ -71,14 +71,6 @@ std::vector<std::string> parts(const std::string& flag, const std::string& v, st
     return out;
 }
 
-// "R", "G", "B" or "550 nm": one stored channel, as the user knows it.
-std::string channel_name(const Channels& channels, std::size_t c) {
-    if (channels.is_rgb()) return std::string(1, "RGB"[std::min<std::size_t>(c, 2)]);
-    char b[32];
-    std::snprintf(b, sizeof b, "%g nm", double(channels.wavelengths()[c]));
-    return b;
-}
-
 std::string megabytes(std::uint64_t bytes) {
     char b[32];
     std::snprintf(b, sizeof b, "%.2f MB", double(bytes) / 1e6);
@@ -202,7 +194,7 @@ int run_convert(const std::vector<std::string>& args) {
                     100.0 * r.fitted_error.mean_relative_rms, 100.0 * r.fitted_error.max_relative_rms);
     }
     std::printf("  albedo      at most %.3f (view %.0f deg, %s)\n", r.albedo_max, r.albedo_max_theta_deg,
-                channel_name(r.channels, r.albedo_max_channel).c_str());
+                r.channels.name(r.albedo_max_channel).c_str());
     if (r.albedo_max > 1.01) {
         std::fprintf(stderr, "npf convert: warning: %s reflects more light than it receives at a %.0f degree view "
                              "(directional albedo %.3f); compare with the source: npf albedo %s --against %s\n",

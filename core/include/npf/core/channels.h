@@ -28,6 +28,8 @@ public:
 
     // "R G B" or the wavelengths, for headers and messages.
     std::string describe() const;
+    // Channel c as a column header or a message names it: "R", "G", "B" or "550nm".
+    std::string name(std::size_t c) const;
 
 private:
     ChannelKind m_kind = ChannelKind::Rgb;
