@@ -1,5 +1,6 @@
 #include <npf/batch/summary.h>
 
+#include <npf/converter/convert.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 #include <npf/core/json_text.h>
@@ -129,8 +130,7 @@ std::string summary_markdown(const BatchSummary& s) {
         md += (m.ssim ? fixed(*m.ssim, 4) : "-") + " | ";
         std::string note = m.reason;
         if (!m.edits.empty()) note += (note.empty() ? "" : "; ") + std::to_string(m.edits.size()) + " edit(s)";
-        // The same threshold as npf convert's warning (about 1 % is the check's accuracy).
-        if (m.albedo_max && *m.albedo_max > 1.01)
+        if (m.albedo_max && *m.albedo_max > kGainsLightAlbedo)
             note += (note.empty() ? "" : "; ") + std::string("albedo ") + fixed(*m.albedo_max, 3) + " > 1: gains light (npf albedo)";
         md += cell(note) + " |\n";
     }

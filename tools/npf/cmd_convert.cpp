@@ -195,7 +195,7 @@ int run_convert(const std::vector<std::string>& args) {
     }
     std::printf("  albedo      at most %.3f (view %.0f deg, %s)\n", r.albedo_max, r.albedo_max_theta_deg,
                 r.channels.name(r.albedo_max_channel).c_str());
-    if (r.albedo_max > 1.01) {
+    if (r.albedo_max > kGainsLightAlbedo) {
         std::fprintf(stderr, "npf convert: warning: %s reflects more light than it receives at a %.0f degree view "
                              "(directional albedo %.3f); compare with the source: npf albedo %s --against %s\n",
                      output.c_str(), r.albedo_max_theta_deg, r.albedo_max, output.c_str(), input.c_str());

@@ -64,6 +64,10 @@ struct ConvertReport {
     std::size_t albedo_max_channel = 0;
 };
 
+// Above this largest directional albedo a conversion is reported as gaining light: 1 plus the
+// energy check's accuracy (about 1 %), so that estimator noise alone does not trigger it.
+inline constexpr double kGainsLightAlbedo = 1.01;
+
 // Fits `source`, compresses, measures and writes `output` (NPF EXR, docs/format.md). The
 // progress callback gets the fraction done. Throws npf::Error (no file is left at `output`).
 ConvertReport convert_material(const Brdf& source, const std::string& output, const ConvertSettings& settings,
