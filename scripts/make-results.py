@@ -78,10 +78,10 @@ class Runner:
         # differences come from the fit alone.
         return None if name in REAL else self.args.render_wavelengths
 
-    def render(self, material, tag, name):
+    def render(self, material, tag, name, spp=None, seed=1):
         out = self.path("%s.%s.exr" % (name, tag))
         cmd = [self.npf, "render", material, "-o", out, "--png", out[:-4] + ".png", "--size",
-               str(self.args.size), "--spp", str(self.args.spp), "--seed", "1", "--quiet"]
+               str(self.args.size), "--spp", str(spp or self.args.spp), "--seed", str(seed), "--quiet"]
         if self.wavelengths(name):
             cmd += ["--wavelengths", self.wavelengths(name)]
         self.timed("render:" + out, out, cmd)
@@ -198,6 +198,8 @@ def main():
     ap.add_argument("--docs", default=os.path.join(ROOT, "docs"))
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--spp", type=int, default=256)
+    ap.add_argument("--converge", type=int, default=8,
+                    help="the convergence check renders the real materials with this many times --spp")
     ap.add_argument("--max-wavelengths", type=int, default=41)
     ap.add_argument("--render-wavelengths", default="380:780:41")
     ap.add_argument("--quick", action="store_true", help="small renders, two materials: checks the pipeline")
@@ -211,7 +213,9 @@ def main():
     if args.fresh and os.path.isdir(args.work):
         shutil.rmtree(args.work)
     r = Runner(args)
-    images = os.path.join(args.docs, "results")
+    # --quick must not overwrite the committed figures: its images go to a folder of their own.
+    image_folder = "results-quick" if args.quick else "results"
+    images = os.path.join(args.docs, image_folder)
     os.makedirs(images, exist_ok=True)
     md = []
 
@@ -253,6 +257,18 @@ def main():
                 cmd += ["--wavelengths", r.wavelengths(name)]
             r.timed("render:" + out, out, cmd)
             noise[key] = r.compare(ref, out)
+
+    # Convergence: Table 1's real comparisons again with `converge` times the samples. If the PSNR
+    # barely moves, the fit's error, not Monte Carlo noise, is what Table 1 measures; the seed-2
+    # reference at that count gives the noise left there.
+    log("Convergence")
+    converged = {}
+    high_spp = args.spp * args.converge
+    for name in REAL:
+        ref_hi = r.render(r.source(name), "reference-%dspp" % high_spp, name, spp=high_spp)
+        ref_hi2 = r.render(r.source(name), "reference-%dspp-seed2" % high_spp, name, spp=high_spp, seed=2)
+        ours_hi = r.render(r.path("%s.ours.npf.exr" % name), "ours-%dspp" % high_spp, name, spp=high_spp)
+        converged[name] = {"ours": r.compare(ref_hi, ours_hi), "noise": r.compare(ref_hi, ref_hi2)}
 
     # Table 2: PCA ratios on a spectrally varying material.
     log("Table 2")
@@ -341,6 +357,19 @@ def main():
         md.append("- %s: same seed PSNR %s, SSIM %.4f; seed 2 PSNR %s, SSIM %.4f" % (
             name, fmt_psnr(noise[name + ":same"]["PSNR"]), noise[name + ":same"]["SSIM"],
             fmt_psnr(noise[name]["PSNR"]), noise[name]["SSIM"]))
+    md.append("\nConvergence: the real materials' comparison (ours) again at %d samples per pixel, reference and "
+              "conversion both at that count, seed 1; the noise floor there is the reference against itself "
+              "rendered with seed 2. A PSNR that moves little between the two counts is the fit's error, "
+              "not noise.\n" % high_spp)
+    md.append("| material | PSNR at %d spp | PSNR at %d spp | SSIM at %d spp | noise floor at %d spp: PSNR, SSIM |"
+              % (args.spp, high_spp, high_spp, high_spp))
+    md.append("|---|---|---|---|---|")
+    by_name = {row["name"]: row for row in t1}
+    for name in REAL:
+        c = converged[name]
+        md.append("| %s | %s | %s | %.4f | %s, %.4f |" % (name, fmt_psnr(by_name[name]["ours"]["PSNR"]),
+                                                        fmt_psnr(c["ours"]["PSNR"]), c["ours"]["SSIM"],
+                                                        fmt_psnr(c["noise"]["PSNR"]), c["noise"]["SSIM"]))
     md.append("\n## Energy: directional albedo against the raw file\n")
     md.append("`npf albedo CONVERSION --against RAW` ([albedo.md](albedo.md)) for the production conversions of "
               "Table 1 (ours): the relative difference of the directional albedo, mean over R, G and B, at each "
@@ -360,7 +389,7 @@ def main():
                                                                    100 * q["mb"] / uncompressed, fmt_psnr(q["m"]["PSNR"]),
                                                                    q["m"]["SSIM"], q["fit_s"]))
     md.append("\n## Speed against accuracy\n")
-    md.append("![speed and accuracy](results/speed_accuracy.png)\n")
+    md.append("![speed and accuracy](%s/speed_accuracy.png)\n" % image_folder)
     md.append("Fit settings on %s (render PSNR against the raw file):\n" % trade_material)
     md.append("| settings | fit wall time (s) | size (MB) | PSNR (dB) | SSIM |")
     md.append("|---|---|---|---|---|")
@@ -374,14 +403,14 @@ def main():
     md.append("\n## Side by side\n")
     for name in shown:
         md.append("**%s**: reference, NPF, relMSE heatmap (blue 0 to red 5 %%)\n" % name)
-        md.append("![%s](results/%s.png)\n" % (name, name))
+        md.append("![%s](%s/%s.png)\n" % (name, image_folder, name))
     md.append("<!-- analysis -->\n")
     out = os.path.join(args.docs, "results.md" if not args.quick else "results-quick.md")
     analysis = ""
     if os.path.exists(out):
         old = open(out).read()
         if "<!-- analysis -->" in old:
-            analysis = old.split("<!-- analysis -->", 1)[1]
+            analysis = "\n" + old.split("<!-- analysis -->", 1)[1].lstrip("\n")
     with open(out + ".tmp", "w") as f:
         f.write("\n".join(md) + analysis)
     os.replace(out + ".tmp", out)
