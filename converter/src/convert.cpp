@@ -98,6 +98,25 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
     return s;
 }
 
+EnergyCheck energy_check(const NpfModel& model, int threads) {
+    EnergyCheck e;
+    const NpfBrdf check(model);
+    AlbedoTableOptions a;
+    a.theta_deg = {0, 30, 60, 75, 85, 89};
+    a.estimator.samples = 32;
+    a.threads = threads;
+    for (const AlbedoRow& row : directional_albedo_table(check, check.native_query(), a)) {
+        for (std::size_t c = 0; c < row.albedo.size(); ++c) {
+            if (row.albedo[c] > e.albedo_max) {
+                e.albedo_max = row.albedo[c];
+                e.theta_deg = row.theta_deg;
+                e.channel = c;
+            }
+        }
+    }
+    return e;
+}
+
 ConvertReport convert_material(const Brdf& source, const std::string& output, const ConvertSettings& settings,
                                const std::function<void(double)>& progress) {
     const auto start = Clock::now();
@@ -143,22 +162,12 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
         }, settings.error_pairs);
     }
     // Energy: a fit can gain light where the data are thin (grazing views beyond the measured
-    // range). A coarse albedo table (32 x 32 cells per strategy, about 1 % accurate) says so.
+    // range).
     {
-        const NpfBrdf check(model);
-        AlbedoTableOptions a;
-        a.theta_deg = {0, 30, 60, 75, 85, 89};
-        a.estimator.samples = 32;
-        a.threads = o.threads;
-        for (const AlbedoRow& row : directional_albedo_table(check, check.native_query(), a)) {
-            for (std::size_t c = 0; c < row.albedo.size(); ++c) {
-                if (row.albedo[c] > report.albedo_max) {
-                    report.albedo_max = row.albedo[c];
-                    report.albedo_max_theta_deg = row.theta_deg;
-                    report.albedo_max_channel = c;
-                }
-            }
-        }
+        const EnergyCheck e = energy_check(model, o.threads);
+        report.albedo_max = e.albedo_max;
+        report.albedo_max_theta_deg = e.theta_deg;
+        report.albedo_max_channel = e.channel;
     }
     report.seconds_error = seconds_since(t);
 
