@@ -122,6 +122,7 @@ TEST(CliConvert, WarnsWhenTheFitReflectsMoreLightThanItReceives) {
     ASSERT_EQ(c.status, 0) << describe(c);
     EXPECT_TRUE(contains(p.out, "albedo      at most 1.")) << p.out;
     EXPECT_TRUE(contains(p.err, "reflects more light than it receives")) << p.err;
+    EXPECT_TRUE(contains(p.err, "--limit-albedo 1")) << p.err;
     EXPECT_TRUE(contains(c.out, "albedo      at most 0.")) << c.out;
     EXPECT_FALSE(contains(c.err, "reflects more light")) << c.err;
     const ToolRun info = npf::testing::run_tool({"info", dir + "/plastic.exr"});

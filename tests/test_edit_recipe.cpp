@@ -142,7 +142,7 @@ TEST(EditRecipe, ErrorsNameTheFileLineAndKey) {
               "r.yaml:2: key 'bitangent': 'x' is not a number");
     EXPECT_EQ(error_of("steps:\n  - stretch: {tangent: 2}\n  - twist: 3\n"),
               "r.yaml:3: key 'twist': unknown step (expected one of: matrix, stretch, rotate, roughness, sharpen, blur, "
-              "diffuse, specular, thin_film, compress)");
+              "diffuse, specular, thin_film, compress, limit_albedo)");
     EXPECT_EQ(error_of("steps:\n  - stretch: {tangent: -2}\n"), "r.yaml:2: key 'tangent': must be positive, got -2");
     EXPECT_EQ(error_of("steps: [\n"), "r.yaml:2: not valid YAML: end of sequence flow not found");
     EXPECT_EQ(error_of("stepz: []\n"),

@@ -106,7 +106,7 @@ FilmBase parse_base(const Context& cx, const YAML::Node& node) {
 EditStep parse_step(const Context& cx, const YAML::Node& node) {
     if (!node.IsMap() || node.size() != 1) {
         cx.fail(node, "steps", "each step is a mapping with one key: matrix, stretch, rotate, roughness, sharpen, blur, "
-                               "diffuse, specular, thin_film or compress");
+                               "diffuse, specular, thin_film, compress or limit_albedo");
     }
     const auto kv = *node.begin();
     const std::string kind = kv.first.Scalar();
@@ -222,10 +222,14 @@ EditStep parse_step(const Context& cx, const YAML::Node& node) {
         }
         s = EditStep::compress(o, std::string("compress D, G ") + (by_rank ? "to ranks " : "to PCA ratios ") +
                                       detail::num(a) + ", " + detail::num(b));
+    } else if (kind == "limit_albedo") {
+        const double cap = scalar_or(cx, v, kind, "cap");
+        if (!(cap > 0.0 && cap <= 1.0)) cx.fail(v, kind, "the cap must be in (0, 1], got " + detail::num(cap));
+        s = EditStep::limit_albedo(cap);
     } else {
         cx.fail(kv.first, kind,
                 "unknown step (expected one of: matrix, stretch, rotate, roughness, sharpen, blur, diffuse, specular, "
-                "thin_film, compress)");
+                "thin_film, compress, limit_albedo)");
     }
     s.origin = cx.where(kv.first);
     return s;
@@ -323,6 +327,14 @@ EditStep EditStep::compress(const CompressionOptions& options, std::string label
     s.kind = Kind::Compress;
     s.compression = options;
     s.label = std::move(label);
+    return s;
+}
+
+EditStep EditStep::limit_albedo(double cap) {
+    EditStep s;
+    s.kind = Kind::LimitAlbedo;
+    s.cap = cap;
+    s.label = "limit the directional albedo to " + detail::num(cap);
     return s;
 }
 
@@ -466,6 +478,14 @@ EditResult apply_edits(const NpfModel& model, const std::vector<EditStep>& steps
             case EditStep::Kind::Compress:
                 r.model = compress_model(r.model, s.compression, &rec);
                 break;
+            case EditStep::Kind::LimitAlbedo: {
+                AlbedoLimit cap;
+                cap.cap = s.cap;
+                cap.threads = options.albedo.threads;
+                cap.progress = options.progress;
+                r.model = limit_albedo(r.model, cap, &rec);
+                break;
+            }
             }
         } catch (const Error& e) {
             if (s.origin.empty()) throw;

@@ -197,8 +197,9 @@ int run_convert(const std::vector<std::string>& args) {
                 r.channels.name(r.albedo_max_channel).c_str());
     if (r.albedo_max > kGainsLightAlbedo) {
         std::fprintf(stderr, "npf convert: warning: %s reflects more light than it receives at a %.0f degree view "
-                             "(directional albedo %.3f); compare with the source: npf albedo %s --against %s\n",
-                     output.c_str(), r.albedo_max_theta_deg, r.albedo_max, output.c_str(), input.c_str());
+                             "(directional albedo %.3f); compare with the source: npf albedo %s --against %s; "
+                             "cap it: npf edit %s -o CAPPED.exr --limit-albedo 1\n",
+                     output.c_str(), r.albedo_max_theta_deg, r.albedo_max, output.c_str(), input.c_str(), output.c_str());
     }
     int most = 0;
     for (int it : r.fit.iterations) most = std::max(most, it);

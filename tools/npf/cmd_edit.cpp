@@ -3,6 +3,7 @@
 // flags (recipe first, then the flags in command-line order).
 #include "command_line.h"
 #include "commands.h"
+#include "progress.h"
 
 #include <npf/color/spectrum.h>
 #include <npf/converter/npf_texture_writer.h>
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -42,6 +44,7 @@ const std::vector<FlagSpec> kFlags = {
     {"--film-mode", true, "for --thin-film: ratio (default; keeps the measured F's shape) or replace"},
     {"--compress-rank", true, "re-compress D and G across wavelengths to ranks D,G (no refit; from a lossless file as convert --rank)"},
     {"--compress-pca", true, "re-compress D and G to the smallest ranks keeping PCA ratios D,G (e.g. 0.99,0.95)"},
+    {"--limit-albedo", true, "cap the directional albedo at CAP (in (0, 1], e.g. 1): G is lowered at the views where the material reflects more light than that"},
     {"--phi-cells", true, "azimuth cells of D and G when an isotropic material becomes anisotropic (default 2 x theta)"},
     {"--svd", true, "rank (default: keep the input's SVD ranks) or ratio (the input's kept ratio)"},
     {"--albedo-tolerance", true, "warn when the directional albedo exceeds 1 + this (default 0.005)"},
@@ -54,7 +57,8 @@ const std::vector<FlagSpec> kFlags = {
 const std::set<std::string> kStepFlags = {"--matrix", "--stretch-tangent", "--stretch-bitangent", "--rotate",
                                           "--roughness", "--sharpen", "--blur", "--diffuse-from",
                                           "--diffuse-srgb", "--diffuse-linear", "--diffuse-spectrum",
-                                          "--specular-from", "--thin-film", "--compress-rank", "--compress-pca"};
+                                          "--specular-from", "--thin-film", "--compress-rank", "--compress-pca",
+                                          "--limit-albedo"};
 
 double number(const std::string& flag, const std::string& v) {
     char* end = nullptr;
@@ -180,6 +184,10 @@ edit::EditStep step_from_flag(const std::string& flag, const std::string& v, con
             o.g_ratio = p[1];
         }
         s = EditStep::compress(o, std::string("compress D, G to ") + (flag == "--compress-rank" ? "ranks " : "PCA ratios ") + v);
+    } else if (flag == "--limit-albedo") {
+        const double cap = number(flag, v);
+        if (!(cap > 0.0 && cap <= 1.0)) throw Error(flag, "the cap must be in (0, 1], got '" + v + "'");
+        s = EditStep::limit_albedo(cap);
     }
     s.origin = flag;
     return s;
@@ -199,7 +207,8 @@ int run_edit(const std::vector<std::string>& args) {
                     "Conventions, maths and limits: docs/editing.md; example recipes: configs/edits/. Examples:\n"
                     "  npf edit copper.exr -o copper_wide.exr --stretch-tangent 2 --rotate 30\n"
                     "  npf edit felt.exr -o felt_red.exr --diffuse-srgb 0.8,0.1,0.1\n"
-                    "  npf edit steel.exr -o steel_film.exr --thin-film 615,1.3 --film-base fitted\n\n%s",
+                    "  npf edit steel.exr -o steel_film.exr --thin-film 615,1.3 --film-base fitted\n"
+                    "  npf edit paper.exr -o paper_capped.exr --limit-albedo 1\n\n%s",
                     usage_lines(kFlags).c_str());
         return cl.has("--help") ? 0 : 2;
     }
@@ -253,7 +262,18 @@ int run_edit(const std::vector<std::string>& args) {
                 model.channel_count(), model.channels.is_rgb() ? "RGB channels" : "wavelengths", model.d_theta, model.d_phi,
                 model.g_theta, model.g_phi, steps.size(), steps.size() == 1 ? "" : "s");
     std::fflush(stdout);
+    // Only a long step reports progress (limit_albedo on a large anisotropic material): one bar
+    // per step, on a terminal.
+    std::unique_ptr<ProgressBar> bar;
+    std::size_t step_index = 0;
+    options.progress = [&](double f) {
+        if (!bar) bar = std::make_unique<ProgressBar>("  [" + std::to_string(step_index + 1) + "] " + steps[step_index].label, true);
+        bar->update(f);
+    };
     const edit::EditResult result = edit::apply_edits(model, steps, options, [&](std::size_t i, const edit::EditRecord& r) {
+        if (bar) bar->finish();
+        bar.reset();
+        step_index = i + 1;
         std::printf("  [%zu] %s\n      %s\n", i + 1, steps[i].label.c_str(), r.summary.c_str());
         std::fflush(stdout);
         for (const std::string& w : r.warnings) std::fprintf(stderr, "npf edit: warning: step %zu: %s\n", i + 1, w.c_str());

@@ -13,6 +13,7 @@
 //     - specular: {from: gold.exr, keep_brightness: true}
 //     - thin_film: {thickness: 615, film_ior: 1.3, base: fitted, mode: ratio}
 //     - compress: {rank: [8, 6]}               # or {pca: [0.99, 0.95]}: D, G re-compressed
+//     - limit_albedo: 1                       # or {cap: 0.95}: G lowered where the albedo exceeds it
 //   options: {phi_cells: 180, svd: rank, albedo_tolerance: 0.005}
 //
 // Paths are relative to the recipe's folder. Errors name "recipe.yaml:LINE" and the key.
@@ -21,6 +22,7 @@
 #include <npf/color/spectrum.h>
 #include <npf/converter/fit/spectral_compression.h>
 #include <npf/edit/albedo.h>
+#include <npf/edit/albedo_limit.h>
 #include <npf/edit/edit_record.h>
 #include <npf/edit/ndf_transform.h>
 #include <npf/edit/thin_film.h>
@@ -41,6 +43,7 @@ struct EditStep {
         SpecularMaterial, // rho_s F of the NPF file `path`, times scale
         ThinFilm,
         Compress,         // D and G re-compressed (compression.h)
+        LimitAlbedo,      // G lowered where the directional albedo exceeds `cap` (albedo_limit.h)
     };
     Kind kind = Kind::Ndf;
     std::string label;   // what the user asked, for the history ("stretch tangent 2, bitangent 1")
@@ -53,6 +56,7 @@ struct EditStep {
     color::Rgb rgb{0, 0, 0};
     ThinFilm film;
     CompressionOptions compression;
+    double cap = 1.0;  // LimitAlbedo
 
     static EditStep ndf(const Mat3& m, std::string label);
     static EditStep diffuse_from(std::string path, double scale = 1.0);
@@ -61,6 +65,7 @@ struct EditStep {
     static EditStep specular_from(std::string path, double scale = 1.0, bool keep_brightness = false);
     static EditStep thin_film(ThinFilm film, std::string label);
     static EditStep compress(const CompressionOptions& options, std::string label);
+    static EditStep limit_albedo(double cap);
 };
 
 struct EditOptions {
@@ -69,6 +74,8 @@ struct EditOptions {
     double albedo_tolerance = 0.005;  // warn when the directional albedo exceeds 1 + this
     AlbedoOptions albedo;
     std::string description;  // non-empty: replaces the `description` metadata
+    // Long steps (limit_albedo on a large anisotropic material) report the fraction done here.
+    std::function<void(double)> progress;
 };
 
 struct EditRecipe {
