@@ -6,6 +6,7 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
+#include <npf/converter/convert.h>
 #include <npf/converter/fit/spectral_compression.h>
 #include <npf/converter/npf_texture_writer.h>
 #include <npf/core/error.h>
@@ -150,6 +151,18 @@ TEST(EditAlbedoLimit, AlbedoStaysBoundedUpToTheHorizon) {
         const double last = out.G.at(c, std::size_t(out.g_theta - 1)), prev = out.G.at(c, std::size_t(out.g_theta - 2));
         EXPECT_LE(1.5 * last - 0.5 * prev, 1e-6) << c;
     }
+}
+
+TEST(EditAlbedoLimit, ConvertsEnergyCheckFlagsTheHorizonAndTheEditClearsIt) {
+    // npf convert's check (EnergyCheck::unbounded_at_horizon) says when G's line towards the
+    // horizon ends above 0; after limit_albedo it does not.
+    const NpfModel in = material(0.02, 0.2);
+    EXPECT_TRUE(npf::energy_check(in, 2).unbounded_at_horizon);
+    const NpfModel out = npf::edit::limit_albedo(in, AlbedoLimit{});
+    EXPECT_FALSE(npf::energy_check(out, 2).unbounded_at_horizon);
+    NpfModel closed = in;
+    for (int k = 0; k < closed.G.rank; ++k) closed.G.basis[std::size_t(k) * closed.G.cells + std::size_t(closed.g_theta - 1)] = 0.f;
+    EXPECT_FALSE(npf::energy_check(closed, 2).unbounded_at_horizon);
 }
 
 TEST(EditAlbedoLimit, MaterialTooBrightEverywhereEndsAtTheCapNotFarBelow) {

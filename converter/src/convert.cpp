@@ -114,6 +114,19 @@ EnergyCheck energy_check(const NpfModel& model, int threads) {
             }
         }
     }
+    if (model.g_theta >= 2) {
+        const std::size_t last = std::size_t(model.g_theta - 1) * std::size_t(model.g_phi);
+        const std::size_t prev = std::size_t(model.g_theta - 2) * std::size_t(model.g_phi);
+        for (std::size_t c = 0; c < model.channel_count() && !e.unbounded_at_horizon; ++c) {
+            if (!(model.rho_s[c] > 0.f)) continue;
+            for (int j = 0; j < model.g_phi; ++j) {
+                if (1.5 * model.G.at(c, last + std::size_t(j)) - 0.5 * model.G.at(c, prev + std::size_t(j)) > 0.0) {
+                    e.unbounded_at_horizon = true;
+                    break;
+                }
+            }
+        }
+    }
     return e;
 }
 
@@ -168,6 +181,7 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
         report.albedo_max = e.albedo_max;
         report.albedo_max_theta_deg = e.theta_deg;
         report.albedo_max_channel = e.channel;
+        report.albedo_unbounded_at_horizon = e.unbounded_at_horizon;
     }
     report.seconds_error = seconds_since(t);
 

@@ -195,6 +195,11 @@ int run_convert(const std::vector<std::string>& args) {
     }
     std::printf("  albedo      at most %.3f (view %.0f deg, %s)\n", r.albedo_max, r.albedo_max_theta_deg,
                 r.channels.name(r.albedo_max_channel).c_str());
+    if (r.albedo_unbounded_at_horizon) {
+        std::printf("  horizon     G's last rows extrapolate above 0 at the horizon: the albedo grows without bound in the\n"
+                    "              last fraction of a degree (silhouettes); cap it: npf edit %s -o CAPPED.exr --limit-albedo 1\n",
+                    output.c_str());
+    }
     if (r.albedo_max > kGainsLightAlbedo) {
         std::fprintf(stderr, "npf convert: warning: %s reflects more light than it receives at a %.0f degree view "
                              "(directional albedo %.3f); compare with the source: npf albedo %s --against %s; "

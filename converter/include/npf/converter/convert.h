@@ -62,6 +62,7 @@ struct ConvertReport {
     // receives there (docs/albedo.md). 0 when not measured (a model without channels).
     double albedo_max = 0.0, albedo_max_theta_deg = 0.0;
     std::size_t albedo_max_channel = 0;
+    bool albedo_unbounded_at_horizon = false;  // EnergyCheck::unbounded_at_horizon
 };
 
 // Above this largest directional albedo a conversion is reported as gaining light: 1 plus the
@@ -74,6 +75,11 @@ inline constexpr double kGainsLightAlbedo = 1.01;
 struct EnergyCheck {
     double albedo_max = 0.0, theta_deg = 0.0;
     std::size_t channel = 0;
+    // Beyond G's last row centre the model continues G along the line through its last two rows;
+    // where that line ends above 0 at the horizon (in any channel with a specular term), the
+    // albedo grows like 1 / cos(theta_view) in the last fraction of a degree (docs/editing.md,
+    // limit_albedo). Not part of albedo_max: the views above stop at 89 degrees.
+    bool unbounded_at_horizon = false;
 };
 EnergyCheck energy_check(const NpfModel& model, int threads = 0);
 
