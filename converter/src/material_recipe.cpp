@@ -21,17 +21,11 @@ namespace {
 
 // Errors name the recipe, the line and the key, like "recipe.yaml:7: key 'alpha': ...".
 struct Context : YamlContext {
-    // Runs make(); an npf::Error it throws (a bad index file, a Fresnel value out of range)
-    // is reported at this node and key instead.
-    template <typename Make>
-    auto at(const YAML::Node& node, const std::string& key, Make make) const -> decltype(make()) {
-        try {
-            return make();
-        } catch (const Error& e) {
-            fail(node, key, e.source().empty() || e.source() == "Fresnel" || e.source() == "spectrum"
-                                ? e.problem()
-                                : e.source() + ": " + e.problem());
-        }
+    // The Fresnel and spectrum constructors name themselves as the source; the recipe's line and
+    // key say more, so only their problem is kept (a file's name stays).
+    std::string problem_of(const Error& e) const override {
+        return e.source().empty() || e.source() == "Fresnel" || e.source() == "spectrum" ? e.problem()
+                                                                                         : e.source() + ": " + e.problem();
     }
 };
 

@@ -26,17 +26,7 @@ namespace npf::edit {
 namespace {
 
 // Errors name the recipe, the line and the key: "recipe.yaml:7: key 'stretch': ...".
-struct Context : YamlContext {
-    // Runs make(); an npf::Error it throws is reported at this node and key instead.
-    template <typename Make>
-    auto at(const YAML::Node& node, const std::string& key, Make make) const -> decltype(make()) {
-        try {
-            return make();
-        } catch (const Error& e) {
-            fail(node, key, e.what());
-        }
-    }
-};
+using Context = YamlContext;
 
 // number | [[nm, value], ...] | path of a .spd file
 color::SampledSpectrum parse_spectrum(const Context& cx, const YAML::Node& node, const std::string& key) {

@@ -4,6 +4,8 @@
 // Needs yaml-cpp (which every user of it already parses with).
 #pragma once
 
+#include <npf/core/error.h>
+
 #include <yaml-cpp/yaml.h>
 
 #include <string>
@@ -32,6 +34,21 @@ struct YamlContext {
     // `may_be_empty`. YAML parsers keep one of two equal keys silently; a file should not.
     void only(const YAML::Node& map, const std::string& key, const std::vector<std::string>& allowed,
               const std::vector<std::string>& may_be_empty = {}) const;
+
+    // Runs make(); an npf::Error it throws (a spectrum file that cannot be read, a value out of
+    // range) is reported at this node and key instead, with problem_of's message.
+    template <typename Make>
+    auto at(const YAML::Node& node, const std::string& key, Make make) const -> decltype(make()) {
+        try {
+            return make();
+        } catch (const Error& e) {
+            fail(node, key, problem_of(e));
+        }
+    }
+    // The message an error thrown inside at() gives: by default all of it, "source: problem".
+    virtual std::string problem_of(const Error& e) const { return e.what(); }
+
+    virtual ~YamlContext() = default;
 };
 
 }  // namespace npf
