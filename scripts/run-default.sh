@@ -16,6 +16,11 @@ build/tools/npf/npf convert "$material" -o out/ilm_l3_37_metallic.exr --preset p
 echo
 build/tools/npf/npf info out/ilm_l3_37_metallic.exr
 echo
+echo "Energy: the fit's albedo grows without bound in the last fraction of a degree before the horizon"
+echo "(G extrapolated above 0 there); the cap lowers G only where the albedo exceeds 1:"
+build/tools/npf/npf edit out/ilm_l3_37_metallic.exr -o out/ilm_l3_37_metallic_capped.exr --limit-albedo 1
+build/tools/npf/npf albedo out/ilm_l3_37_metallic_capped.exr --against out/ilm_l3_37_metallic.exr --theta 0,60,85,89,89.9,89.99 --samples 64
+echo
 echo "f_r (1/sr) at the probe directions of data/materials/probe_dirs.txt, measured:"
 build/tools/npf/npf eval "$material" --dirs data/materials/probe_dirs.txt
 echo "and fitted (out/ilm_l3_37_metallic.exr):"
