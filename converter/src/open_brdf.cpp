@@ -1,6 +1,7 @@
 #include <npf/converter/analytic/analytic_brdf.h>
 #include <npf/converter/material_recipe.h>
 #include <npf/converter/merl_brdf.h>
+#include <npf/converter/nbrdf_brdf.h>
 #include <npf/converter/open_brdf.h>
 #include <npf/converter/rgl_brdf.h>
 #include <npf/converter/tensor_file.h>
@@ -16,6 +17,15 @@
 
 namespace npf {
 
+namespace {
+
+bool ends_with(const std::string& text, const char* tail) {
+    const std::size_t n = std::strlen(tail);
+    return text.size() >= n && text.compare(text.size() - n, n, tail) == 0;
+}
+
+}  // namespace
+
 std::unique_ptr<Brdf> open_brdf(const std::string& path) {
     const std::uint64_t size = require_regular_file(path);
     if (size == 0) throw Error(path, "empty file");
@@ -28,15 +38,16 @@ std::unique_ptr<Brdf> open_brdf(const std::string& path) {
     if (MerlBrdf::looks_like_merl(head, got, size)) return MerlBrdf::load(path);
     // Any OpenEXR file is taken for an NPF texture: the reader says what is missing if it is not.
     if (has_exr_magic(head, got)) return std::make_unique<NpfBrdf>(path);
-    throw Error(path, "unknown material format (not an RGL tensor_file, a MERL .binary or an NPF texture .exr)");
+    // Any HDF5 file, or any file named like one, is taken for a Neural BRDF network: the reader
+    // says what is missing (or that it is not HDF5 at all).
+    if (NbrdfBrdf::has_hdf5_signature(head, got) || ends_with(path, ".h5") || ends_with(path, ".hdf5"))
+        return NbrdfBrdf::load(path);
+    throw Error(path, "unknown material format (not an RGL tensor_file, a MERL .binary, an NPF "
+                      "texture .exr or a Neural BRDF .h5)");
 }
 
 std::unique_ptr<Brdf> open_material(const std::string& path) {
-    auto ends_with = [&](const char* tail) {
-        const std::size_t n = std::strlen(tail);
-        return path.size() >= n && path.compare(path.size() - n, n, tail) == 0;
-    };
-    if (ends_with(".yaml") || ends_with(".yml")) return std::make_unique<AnalyticBrdf>(load_material_recipe(path).material);
+    if (ends_with(path, ".yaml") || ends_with(path, ".yml")) return std::make_unique<AnalyticBrdf>(load_material_recipe(path).material);
     return open_brdf(path);
 }
 
