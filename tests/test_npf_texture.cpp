@@ -505,8 +505,11 @@ TEST(NpfTextureBadInput, DamagedContents) {
     expect_rejected(damaged("descending_wavelengths.exr",
                             [&](auto& p) { set_value(*find_raw(p, "spectral"), "wavelength", 5, 300.f); }),
                     "strictly ascending");
+    expect_rejected(damaged("version3.exr", [&](auto& p) { find_raw(p, "D")->spec.attribute("npf:format_version", 3); }),
+                    "unsupported npf:format_version 3");
+    // Version 2 promises a detail layer: a version-1 file relabelled lacks its attributes.
     expect_rejected(damaged("version2.exr", [&](auto& p) { find_raw(p, "D")->spec.attribute("npf:format_version", 2); }),
-                    "unsupported npf:format_version 2");
+                    "missing attribute npf:detail_theta_h");
     expect_rejected(damaged("version_string.exr",
                             [&](auto& p) { find_raw(p, "D")->spec.attribute("npf:format_version", "1"); }),
                     "not an NPF factor texture");

@@ -92,8 +92,16 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
         o.phi_d_samples = isotropic ? 0 : (paper ? 16 : 8);
         o.max_iterations = paper ? 500 : 200;
         o.tolerance = paper ? 1e-6 : 1e-5;
+        if (!paper) {
+            s.detail.grid = DetailGrid{32, 12, 32};
+            s.close_horizon = true;
+        }
         break;
     }
+    }
+    if (preset == ConvertPreset::Preview) {
+        s.detail.grid = DetailGrid{16, 8, 16};
+        s.close_horizon = true;
     }
     return s;
 }
@@ -114,19 +122,7 @@ EnergyCheck energy_check(const NpfModel& model, int threads) {
             }
         }
     }
-    if (model.g_theta >= 2) {
-        const std::size_t last = std::size_t(model.g_theta - 1) * std::size_t(model.g_phi);
-        const std::size_t prev = std::size_t(model.g_theta - 2) * std::size_t(model.g_phi);
-        for (std::size_t c = 0; c < model.channel_count() && !e.unbounded_at_horizon; ++c) {
-            if (!(model.rho_s[c] > 0.f)) continue;
-            for (int j = 0; j < model.g_phi; ++j) {
-                if (1.5 * model.G.at(c, last + std::size_t(j)) - 0.5 * model.G.at(c, prev + std::size_t(j)) > 0.0) {
-                    e.unbounded_at_horizon = true;
-                    break;
-                }
-            }
-        }
-    }
+    e.unbounded_at_horizon = model.g_open_at_horizon();
     return e;
 }
 
@@ -162,6 +158,17 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
     report.d_kept_ratio = model.D.kept_ratio;
     report.g_kept_ratio = model.G.kept_ratio;
 
+    if (settings.close_horizon) report.horizon_columns_closed = model.close_g_at_horizon();
+    if (!settings.detail.grid.empty()) {
+        DetailOptions d = settings.detail;
+        if (d.threads == 0) d.threads = o.threads;
+        report.detail = fit_detail_layer(source, model, d, [&](double f) {
+            if (progress) progress(0.9 + 0.05 * f);
+        });
+        report.has_detail = true;
+        report.detail_rank = model.detail.rank;
+    }
+
     t = Clock::now();
     if (settings.error_pairs > 0) {
         const std::size_t C = factors.channel_count();
@@ -170,9 +177,17 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
             for (std::size_t c = 0; c < C; ++c) out[c] = factors.eval(c, a, b);
         }, settings.error_pairs);
         if (progress) progress(0.95);
+        NpfModel without_detail = model;
+        without_detail.detail_grid = DetailGrid{};
+        without_detail.detail = SpectralBasis{};
         report.compressed_error = brdf_space_error(source, o.channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
-            model.eval_all(wi, wo, out);
+            without_detail.eval_all(wi, wo, out);
         }, settings.error_pairs);
+        if (report.has_detail) {
+            report.detailed_error = brdf_space_error(source, o.channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
+                model.eval_all(wi, wo, out);
+            }, settings.error_pairs);
+        }
     }
     // Energy: a fit can gain light where the data are thin (grazing views beyond the measured
     // range).
@@ -219,6 +234,25 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
         m.emplace_back("error_fitted_rel_rms_max", text(report.fitted_error.max_relative_rms));
         m.emplace_back("error_rel_rms_mean", text(report.compressed_error.mean_relative_rms));
         m.emplace_back("error_rel_rms_max", text(report.compressed_error.max_relative_rms));
+    }
+    m.emplace_back("horizon_closed", settings.close_horizon ? std::to_string(report.horizon_columns_closed) + " columns" : "no");
+    if (report.has_detail) {
+        const DetailGrid& dg = model.detail_grid;
+        const DetailOptions& d = settings.detail;
+        m.emplace_back("detail_grid", std::to_string(dg.theta_h) + "x" + std::to_string(dg.theta_d) + "x" +
+                                          std::to_string(dg.phi_d));
+        m.emplace_back("detail_samples_per_cell", std::to_string(d.samples_per_cell));
+        m.emplace_back("detail_display_power", text(d.display_power));
+        m.emplace_back("detail_energy_weight", text(d.energy_weight));
+        m.emplace_back("detail_rank", std::to_string(model.detail.rank));
+        m.emplace_back("detail_weighted_error_before", text(report.detail.weighted_error_before));
+        m.emplace_back("detail_weighted_error_after", text(report.detail.weighted_error_after));
+        m.emplace_back("detail_energy_error_before", text(report.detail.energy_error_before));
+        m.emplace_back("detail_energy_error_after", text(report.detail.energy_error_after));
+        if (settings.error_pairs > 0) {
+            m.emplace_back("error_detailed_rel_rms_mean", text(report.detailed_error.mean_relative_rms));
+            m.emplace_back("error_detailed_rel_rms_max", text(report.detailed_error.max_relative_rms));
+        }
     }
     m.emplace_back("albedo_max", text(report.albedo_max));
     m.emplace_back("albedo_max_view_theta", text(report.albedo_max_theta_deg));

@@ -6,6 +6,7 @@
 #include <npf/shading/npf_texture_layout.h>
 
 #include <OpenImageIO/imageio.h>
+#include <Imath/half.h>
 
 #include <cstdio>
 #include <exception>
@@ -82,7 +83,8 @@ void check_metadata(const NpfModel& m, const std::string& path) {
 }
 
 void put_file_attributes(const NpfModel& m, ImageSpec& spec) {
-    spec.attribute(layout::kAttrVersion, layout::kFormatVersion);
+    spec.attribute(layout::kAttrVersion,
+                   m.has_detail() ? layout::kFormatVersion : layout::kFormatVersionWithoutDetail);
     spec.attribute(layout::kAttrChannelKind, m.channels.is_rgb() ? "rgb" : "spectral");
     spec.attribute(layout::kAttrChannelCount, int(m.channel_count()));
     spec.attribute(layout::kAttrIsotropic, m.isotropic() ? 1 : 0);
@@ -97,6 +99,14 @@ void put_file_attributes(const NpfModel& m, ImageSpec& spec) {
     spec.attribute(layout::kAttrGKeptRatio, OIIO::TypeDesc::DOUBLE, &m.G.kept_ratio);
     spec.attribute(layout::kAttrDSingularValues, numbers_text(m.D.singular_values));
     spec.attribute(layout::kAttrGSingularValues, numbers_text(m.G.singular_values));
+    if (m.has_detail()) {
+        spec.attribute(layout::kAttrDetailThetaH, m.detail_grid.theta_h);
+        spec.attribute(layout::kAttrDetailThetaD, m.detail_grid.theta_d);
+        spec.attribute(layout::kAttrDetailPhiD, m.detail_grid.phi_d);
+        spec.attribute(layout::kAttrDetailRank, m.detail.rank);
+        spec.attribute(layout::kAttrDetailKeptRatio, OIIO::TypeDesc::DOUBLE, &m.detail.kept_ratio);
+        spec.attribute(layout::kAttrDetailSingularValues, numbers_text(m.detail.singular_values));
+    }
     if (!m.metadata.empty()) {
         std::string keys;
         for (const auto& [key, value] : m.metadata) {
@@ -111,6 +121,15 @@ void put_file_attributes(const NpfModel& m, ImageSpec& spec) {
 void put_axes(PartData& p, const char* x, const char* y) {
     p.spec.attribute(layout::kAttrXAxis, x);
     p.spec.attribute(layout::kAttrYAxis, y);
+}
+
+// Whether every value survives a round trip through half precision (then half is lossless and
+// halves the part's size; the fitter rounds the detail basis to half for that reason).
+bool exact_in_half(const std::vector<float>& values) {
+    for (float v : values) {
+        if (float(Imath::half(v)) != v) return false;
+    }
+    return true;
 }
 
 std::vector<PartData> make_parts(const NpfModel& m) {
@@ -140,6 +159,7 @@ std::vector<PartData> make_parts(const NpfModel& m) {
     std::vector<std::string> names = {layout::kWavelength, layout::kRhoD, layout::kRhoS};
     for (const std::string& n : family(layout::kDWeight, std::size_t(m.D.rank))) names.push_back(n);
     for (const std::string& n : family(layout::kGWeight, std::size_t(m.G.rank))) names.push_back(n);
+    for (const std::string& n : family(layout::kRWeight, std::size_t(m.detail.rank))) names.push_back(n);
     PartData s = make_part(layout::kPartSpectral, int(C), 1, names, dw, dh);
     std::vector<float> column(C);
     for (std::size_t c = 0; c < C; ++c) column[c] = m.channels.is_rgb() ? float(c) : m.channels.wavelengths()[c];
@@ -147,7 +167,7 @@ std::vector<PartData> make_parts(const NpfModel& m) {
     put_channel(s, 1, m.rho_d.data());
     put_channel(s, 2, m.rho_s.data());
     std::size_t channel = 3;
-    for (const SpectralBasis* b : {&m.D, &m.G}) {
+    for (const SpectralBasis* b : {&m.D, &m.G, &m.detail}) {
         for (std::size_t k = 0; k < std::size_t(b->rank); ++k, ++channel) {
             for (std::size_t c = 0; c < C; ++c) column[c] = b->weights[c * std::size_t(b->rank) + k];
             put_channel(s, channel, column.data());
@@ -156,6 +176,20 @@ std::vector<PartData> make_parts(const NpfModel& m) {
     s.spec.attribute("wrapmodes", "clamp,clamp");
     put_axes(s, m.channels.is_rgb() ? "stored channel: R, G, B" : "stored wavelength, ascending", "none (one row)");
     parts.push_back(std::move(s));
+
+    if (m.has_detail()) {
+        const DetailGrid& grid = m.detail_grid;
+        PartData r = make_part(layout::kPartDetail, grid.phi_d, grid.theta_h * grid.theta_d,
+                               family(layout::kRBasis, std::size_t(m.detail.rank)), dw, dh);
+        for (int k = 0; k < m.detail.rank; ++k) {
+            put_channel(r, std::size_t(k), m.detail.basis.data() + std::size_t(k) * m.detail.cells);
+        }
+        if (exact_in_half(m.detail.basis)) r.spec.set_format(OIIO::TypeHalf);
+        r.spec.attribute("wrapmodes", "periodic,clamp");
+        put_axes(r, "phi_d = 2 pi (x + 1/2) / width",
+                 "y = i theta_d + j: u_h = (i + 1/2) / detail_theta_h, theta_d = (pi/2) (j + 1/2) / detail_theta_d");
+        parts.push_back(std::move(r));
+    }
     return parts;
 }
 

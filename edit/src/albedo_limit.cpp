@@ -138,9 +138,9 @@ public:
             if (!(need_at(band(0.999), j).factor < 1.0)) continue;
             double s = 1.0;
             for (std::size_t c = 0; c < m.channel_count(); ++c) {
-                if (!(m.rho_s[c] > 0.f)) continue;
+                if (!(m.rho_s[c] > 0.f) || !(m.g_at_horizon(c, j) > 0.0)) continue;
                 const double g_last = m.G.at(c, last + std::size_t(j)), g_prev = m.G.at(c, prev + std::size_t(j));
-                if (1.5 * g_last - 0.5 * g_prev > 0.0) s = std::min(s, std::max(0.0, g_prev / (3.0 * g_last)));
+                s = std::min(s, std::max(0.0, g_prev / (3.0 * g_last)));
             }
             if (s < 1.0) {
                 scale_cell(last + std::size_t(j), s);

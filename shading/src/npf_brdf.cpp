@@ -45,6 +45,12 @@ BrdfInfo describe(const NpfModel& m, const std::string& path, std::uint64_t file
         {"D rank", rank_text(m.D, C)},
         {"G rank", rank_text(m.G, C)},
     };
+    if (m.has_detail()) {
+        const DetailGrid& g = m.detail_grid;
+        info.details.emplace_back("detail grid", std::to_string(g.theta_h) + " x " + std::to_string(g.theta_d) + " x " +
+                                                     std::to_string(g.phi_d) + " (u_h x theta_d x phi_d)");
+        info.details.emplace_back("detail rank", rank_text(m.detail, C));
+    }
     for (const auto& [key, value] : m.metadata) {
         if (key != "description") info.details.emplace_back(key, value);
     }

@@ -32,6 +32,15 @@ Vec3 reflect(const Vec3& w, const Vec3& h) {
     return {d * h.x - w.x, d * h.y - w.y, d * h.z - w.z};
 }
 
+// The detail layer's value of channel c at a prepared pair (0 without one).
+double detail_value(const NpfModel& m, const NpfModel::Lookup& at, std::size_t c) {
+    if (m.detail.rank == 0) return 0.0;
+    const float* w = m.detail.weights.data() + c * std::size_t(m.detail.rank);
+    double r = 0.0;
+    for (int k = 0; k < m.detail.rank; ++k) r += w[k] * at.r_basis[k];
+    return r;
+}
+
 // Directional albedo of the specular term at normal incidence, luminance weighted: a quadrature
 // over the half-vector sampler's own strata, used only to balance the two sampling strategies.
 double specular_albedo_at_normal(const NpfModel& m, const HalfVectorSampler& sampler, const std::vector<double>& y) {
@@ -46,11 +55,32 @@ double specular_albedo_at_normal(const NpfModel& m, const HalfVectorSampler& sam
             const double pdf = sampler.pdf(h) / (4.0 * std::max(double(h.z), 1e-12));
             if (!(wi.z > 0.f) || !(pdf > 0.0) || !m.prepare(normal, wi, at)) continue;
             double f = 0.0;
-            for (std::size_t c = 0; c < y.size(); ++c) f += y[c] * (m.value(at, c) - m.rho_d[c]);
+            for (std::size_t c = 0; c < y.size(); ++c) f += y[c] * (m.value(at, c) - m.rho_d[c] - detail_value(m, at, c));
             sum += f * wi.z / pdf;
         }
     }
     return std::max(0.0, sum / (kStrata * kStrata));
+}
+
+// The same for the detail layer's positive part, by cosine-weighted strata: a residual that adds
+// light away from the peak (a body colour the diffuse term missed, say) is better drawn by the
+// cosine strategy, so it counts on the diffuse side of the balance.
+double detail_albedo_at_normal(const NpfModel& m, const std::vector<double>& y) {
+    if (!m.has_detail()) return 0.0;
+    constexpr int kStrata = 32;
+    const Vec3 normal(0.f, 0.f, 1.f);
+    double sum = 0.0;
+    NpfModel::Lookup at;
+    for (int a = 0; a < kStrata; ++a) {
+        for (int b = 0; b < kStrata; ++b) {
+            const Vec3 wi = cosine_hemisphere_direction(Vec2{(a + 0.5f) / kStrata, (b + 0.5f) / kStrata});
+            if (!m.prepare(normal, wi, at)) continue;
+            double r = 0.0;
+            for (std::size_t c = 0; c < y.size(); ++c) r += y[c] * detail_value(m, at, c);
+            sum += std::max(0.0, r) * kPiD;  // f cos / (cos / pi)
+        }
+    }
+    return sum / (kStrata * kStrata);
 }
 
 }  // namespace
@@ -72,6 +102,7 @@ NpfClosure::NpfClosure(const std::string& path, Path path_kind, OIIO::TextureSys
         // The bases now live in the TextureSystem's cache only.
         m_model.D.basis = std::vector<float>();
         m_model.G.basis = std::vector<float>();
+        m_model.detail.basis = std::vector<float>();
     }
 }
 
@@ -89,6 +120,7 @@ void NpfClosure::finish_construction() {
     const std::vector<double> y = luminance_weights_of(m_model.channels);
     double diffuse = 0.0;
     for (std::size_t c = 0; c < y.size(); ++c) diffuse += y[c] * m_model.rho_d[c] * kPiD;
+    diffuse += detail_albedo_at_normal(m_model, y);
     const double specular = m_sampler.empty() ? 0.0 : specular_albedo_at_normal(m_model, m_sampler, y);
     if (specular <= 0.0 || m_sampler.empty()) {
         m_diffuse_probability = 1.0;

@@ -48,6 +48,28 @@ void project(const SpectralBasis& s, const NpfModel::Lookup::Bilinear& b, double
     for (int k = 0; k < s.rank; ++k, t += cells) out[k] = t[i0] * w0 + t[i1] * w1 + t[i2] * w2 + t[i3] * w3;
 }
 
+// The interpolated basis values of the detail layer at its eight corners.
+void project(const SpectralBasis& s, const Trilinear& t, double* out) {
+    const float* b = s.basis.data();
+    for (int k = 0; k < s.rank; ++k, b += s.cells) {
+        double v = 0.0;
+        for (int j = 0; j < 8; ++j) v += b[t.index[j]] * t.weight[j];
+        out[k] = v;
+    }
+}
+
+double combine_detail(const SpectralBasis& s, std::size_t c, const Trilinear& t) {
+    const float* w = s.weights.data() + c * std::size_t(s.rank);
+    double v = 0.0;
+    for (int k = 0; k < s.rank; ++k) {
+        const float* b = s.basis.data() + std::size_t(k) * s.cells;
+        double r = 0.0;
+        for (int j = 0; j < 8; ++j) r += b[t.index[j]] * t.weight[j];
+        v += w[k] * r;
+    }
+    return v;
+}
+
 double combine_direct(const SpectralBasis& s, std::size_t c, const NpfModel::Lookup::Bilinear& b) {
     const float* w = s.weights.data() + c * std::size_t(s.rank);
     double v = 0.0;
@@ -107,6 +129,47 @@ double SpectralBasis::at(std::size_t channel, std::size_t cell) const {
     return v;
 }
 
+double NpfModel::g_at_horizon(std::size_t c, int column) const {
+    if (g_theta < 2) return G.at(c, std::size_t(column));
+    const std::size_t last = std::size_t(g_theta - 1) * std::size_t(g_phi) + std::size_t(column);
+    const std::size_t prev = std::size_t(g_theta - 2) * std::size_t(g_phi) + std::size_t(column);
+    return 1.5 * G.at(c, last) - 0.5 * G.at(c, prev);
+}
+
+bool NpfModel::g_open_at_horizon() const {
+    if (g_theta < 2) return false;
+    for (std::size_t c = 0; c < channel_count(); ++c) {
+        if (!(rho_s[c] > 0.f)) continue;
+        for (int j = 0; j < g_phi; ++j) {
+            if (g_at_horizon(c, j) > 0.0) return true;
+        }
+    }
+    return false;
+}
+
+int NpfModel::close_g_at_horizon() {
+    if (g_theta < 2) return 0;
+    int changed = 0;
+    const std::size_t last_row = std::size_t(g_theta - 1) * std::size_t(g_phi);
+    const std::size_t prev_row = std::size_t(g_theta - 2) * std::size_t(g_phi);
+    for (int j = 0; j < g_phi; ++j) {
+        const std::size_t last = last_row + std::size_t(j), prev = prev_row + std::size_t(j);
+        double scale = 1.0;
+        for (std::size_t c = 0; c < channel_count(); ++c) {
+            if (!(rho_s[c] > 0.f) || !(g_at_horizon(c, j) > 0.0)) continue;
+            const double g_last = G.at(c, last), g_prev = G.at(c, prev);
+            // G_last s = G_prev / 3 puts the line's end at 0; a hair below, so that float
+            // rounding of the scaled basis cannot leave it above.
+            scale = std::min(scale, g_last > 0.0 ? std::max(0.0, g_prev / (3.0 * g_last)) * (1.0 - 1e-6) : 0.0);
+        }
+        if (scale < 1.0) {
+            for (int k = 0; k < G.rank; ++k) G.basis[std::size_t(k) * G.cells + last] *= float(scale);
+            ++changed;
+        }
+    }
+    return changed;
+}
+
 void NpfModel::validate(const std::string& source) const {
     // Generous bounds that keep every size product far from overflow.
     constexpr int kMaxGrid = 1 << 16;
@@ -151,6 +214,18 @@ void NpfModel::validate(const std::string& source) const {
     check_non_negative(F, "F");
     check_basis(D, "D", std::size_t(d_theta) * std::size_t(d_phi), C, source);
     check_basis(G, "G", std::size_t(g_theta) * std::size_t(g_phi), C, source);
+    if (has_detail()) {
+        check_grid(detail_grid.theta_h, "detail theta_h size");
+        check_grid(detail_grid.theta_d, "detail theta_d size");
+        check_grid(detail_grid.phi_d, "detail phi_d size");
+        if (detail_grid.cells() > kMaxDetailCells) {
+            throw Error(source, "the detail grid has " + std::to_string(detail_grid.cells()) + " cells, more than " +
+                                    std::to_string(kMaxDetailCells));
+        }
+        check_basis(detail, "detail", detail_grid.cells(), C, source);
+    } else if (detail.rank != 0 || !detail.basis.empty() || !detail.weights.empty()) {
+        throw Error(source, "detail values without a detail grid");
+    }
 }
 
 bool NpfModel::half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const {
@@ -198,11 +273,18 @@ bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_
     at.f_t = f.t;
     at.g_i = g_position(ix, iy, iz, g_theta, g_phi, at.g_i_row, at.g_i_col);
     at.g_o = g_position(ox, oy, oz, g_theta, g_phi, at.g_o_row, at.g_o_col);
-    at.cached = project_bases && D.rank <= kInlineRank && G.rank <= kInlineRank;
+    if (has_detail()) {
+        const double hx = ix + ox, hy = iy + oy, hz = iz + oz;
+        const double length = std::sqrt(hx * hx + hy * hy + hz * hz);
+        at.r_at = detail_position(detail_grid, at.u_h, theta_d, detail_phi_d(ix, iy, iz, hx, hy, hz, length));
+        at.r = trilinear(detail_grid, at.r_at);
+    }
+    at.cached = project_bases && D.rank <= kInlineRank && G.rank <= kInlineRank && detail.rank <= kInlineRank;
     if (at.cached) {
         project(D, at.d, at.d_basis);
         project(G, at.g_i, at.g_i_basis);
         project(G, at.g_o, at.g_o_basis);
+        if (detail.rank > 0) project(detail, at.r, at.r_basis);
     }
     return true;
 }
@@ -213,7 +295,10 @@ double NpfModel::value_uncached(const Lookup& at, std::size_t c) const {
     const double go = combine_direct(G, c, at.g_o);
     const float* f = F.data() + c * std::size_t(f_theta);
     const double fv = f[at.f0] * (1 - at.f_t) + f[at.f1] * at.f_t;
-    return rho_d[c] + rho_s[c] * d * fv * gi * go * at.inv_cos_product;
+    const double base = rho_d[c] + rho_s[c] * d * fv * gi * go * at.inv_cos_product;
+    if (detail.rank == 0) return base;
+    const double v = base + combine_detail(detail, c, at.r);
+    return v > 0.0 ? v : 0.0;
 }
 
 void NpfModel::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {

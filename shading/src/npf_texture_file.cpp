@@ -158,6 +158,10 @@ public:
         };
         read_basis(layout::kPartD, layout::kDBasis, m_model.d_phi, m_model.d_theta, m_model.D);
         read_basis(layout::kPartG, layout::kGBasis, m_model.g_phi, m_model.g_theta, m_model.G);
+        if (m_has_detail) {
+            const DetailGrid& g = m_model.detail_grid;
+            read_basis(layout::kPartDetail, layout::kRBasis, g.phi_d, g.theta_h * g.theta_d, m_model.detail);
+        }
 
         // F: one row, one channel per stored channel.
         {
@@ -187,6 +191,10 @@ public:
             extract(p, pixels, layout::kRhoS, m_model.rho_s.data(), true);
             read_weights(p, pixels, layout::kDWeight, m_model.D);
             read_weights(p, pixels, layout::kGWeight, m_model.G);
+            if (m_has_detail) {
+                check_family(p, layout::kRWeight, std::size_t(m_model.detail.rank));
+                read_weights(p, pixels, layout::kRWeight, m_model.detail);
+            }
             if (m_model.channels.is_rgb()) {
                 for (std::size_t c = 0; c < C; ++c) {
                     if (wavelengths[c] != float(c)) {
@@ -282,10 +290,13 @@ private:
             throw Error(m_path, "an OpenEXR file but not an NPF factor texture (its part \"D\" has no integer "
                                 "npf:format_version attribute)");
         }
-        if (version->get<int>() != layout::kFormatVersion) {
-            throw Error(m_path, "unsupported npf:format_version " + std::to_string(version->get<int>()) +
-                                    " (this build reads version " + std::to_string(layout::kFormatVersion) + ")");
+        const int format_version = version->get<int>();
+        if (format_version != layout::kFormatVersion && format_version != layout::kFormatVersionWithoutDetail) {
+            throw Error(m_path, "unsupported npf:format_version " + std::to_string(format_version) +
+                                    " (this build reads versions " + std::to_string(layout::kFormatVersionWithoutDetail) +
+                                    " and " + std::to_string(layout::kFormatVersion) + ")");
         }
+        m_has_detail = format_version >= 2;
         const std::string kind = string_attribute(d, layout::kAttrChannelKind);
         if (kind != "rgb" && kind != "spectral") {
             throw Error(m_path, "attribute npf:channel_kind is " + quoted(kind) + ", expected 'rgb' or 'spectral'");
@@ -326,6 +337,20 @@ private:
                          layout::kAttrDSingularValues);
         read_basis_facts(m.G, m.g_theta, m.g_phi, layout::kAttrGRank, layout::kAttrGKeptRatio,
                          layout::kAttrGSingularValues);
+        if (m_has_detail) {
+            DetailGrid& g = m.detail_grid;
+            g.theta_h = int_attribute(d, layout::kAttrDetailThetaH, 1, kMaxGrid);
+            g.theta_d = int_attribute(d, layout::kAttrDetailThetaD, 1, kMaxGrid);
+            g.phi_d = int_attribute(d, layout::kAttrDetailPhiD, 1, kMaxGrid);
+            // Checked before anything is sized by it.
+            if (g.cells() > NpfModel::kMaxDetailCells) {
+                throw Error(m_path, "the detail grid " + std::to_string(g.theta_h) + " x " + std::to_string(g.theta_d) +
+                                        " x " + std::to_string(g.phi_d) + " has more than " +
+                                        std::to_string(NpfModel::kMaxDetailCells) + " cells");
+            }
+            read_basis_facts(m.detail, g.theta_h * g.theta_d, g.phi_d, layout::kAttrDetailRank,
+                             layout::kAttrDetailKeptRatio, layout::kAttrDetailSingularValues);
+        }
 
         // Metadata: the key list gives the order; each key has its own string attribute.
         const OIIO::ParamValue* keys = d.find_attribute(layout::kAttrMetadataKeys, TypeDesc::UNKNOWN, true);
@@ -441,6 +466,7 @@ private:
     std::unique_ptr<PartSource> m_source;
     std::vector<Part> m_parts;
     NpfModel m_model;
+    bool m_has_detail = false;  // format version 2
 };
 
 }  // namespace

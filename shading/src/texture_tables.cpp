@@ -46,7 +46,8 @@ NpfClosure::TextureTables::~TextureTables() {
 NpfModel NpfClosure::TextureTables::read_model() {
     NpfModel m = read_npf_texture(m_path, *m_ts);
     // Checked before anything is built on the model: the lookups fetch into buffers of this size.
-    for (const auto& [name, rank] : {std::pair<const char*, int>{"D", m.D.rank}, {"G", m.G.rank}}) {
+    for (const auto& [name, rank] :
+         {std::pair<const char*, int>{"D", m.D.rank}, {"G", m.G.rank}, {"detail", m.detail.rank}}) {
         if (rank > NpfModel::kInlineRank) {
             throw Error(m_path, std::string("the texture path shades ranks up to ") +
                                     std::to_string(NpfModel::kInlineRank) + "; this file's " + name + " has rank " +
@@ -57,7 +58,7 @@ NpfModel NpfClosure::TextureTables::read_model() {
     if (!m_handle) throw Error(m_path, "the TextureSystem gives no handle: " + m_ts->geterror());
     int count = 0;
     m_ts->get_texture_info(m_name, 0, OIIO::ustring("subimages"), OIIO::TypeInt, &count);
-    int d_part = -1, g_part = -1, d_first = -1, g_first = -1;
+    int d_part = -1, g_part = -1, d_first = -1, g_first = -1, r_part = -1, r_first = -1;
     for (int i = 0; i < count; ++i) {
         OIIO::ImageSpec spec;
         if (!m_ts->get_imagespec(m_name, i, spec)) continue;
@@ -81,11 +82,20 @@ NpfModel NpfClosure::TextureTables::read_model() {
         } else if (name == layout::kPartG) {
             g_part = i;
             g_first = first_of(layout::kGBasis, m.G.rank);
+        } else if (name == layout::kPartDetail && m.has_detail()) {
+            r_part = i;
+            r_first = first_of(layout::kRBasis, m.detail.rank);
         }
     }
     if (d_part < 0 || g_part < 0) throw Error(m_path, "the TextureSystem does not show parts D and G");
+    if (m.has_detail() && r_part < 0) throw Error(m_path, "the TextureSystem does not show part 'detail'");
     m_d_opt = lookup_options(d_part, d_first);
     m_g_opt = lookup_options(g_part, g_first);
+    if (m.has_detail()) {
+        m_r_opt = lookup_options(r_part, r_first);  // periodic in phi_d, clamped rows
+        m_r_grid = m.detail_grid;
+        m_r_rank = m.detail.rank;
+    }
     m_d_theta = m.d_theta;
     m_d_phi = m.d_phi;
     m_g_theta = m.g_theta;
@@ -125,7 +135,25 @@ bool NpfClosure::TextureTables::fill(NpfModel::Lookup& at) const {
         !lookup_g(at.g_o_row, at.g_o_col, m_g_rank, at.g_o_basis)) {
         return false;
     }
+    if (!m_r_grid.empty() && !fill_detail(at)) return false;
     at.cached = true;
+    return true;
+}
+
+bool NpfClosure::TextureTables::fill_detail(NpfModel::Lookup& at) const {
+    // Rows of the part are theta_h slices of theta_d rows each; theta_d is clamped to the slice's
+    // outer centres (at.r_at), so each bilinear lookup stays inside its slice, and the two slices
+    // are blended here.
+    const DetailPosition& p = at.r_at;
+    const double d = p.d.i0 + p.d.t, col = p.p.i0 + p.p.t;
+    float a[NpfModel::kInlineRank], b[NpfModel::kInlineRank];
+    if (!lookup(m_r_opt, double(p.h.i0) * m_r_grid.theta_d + d, col, m_r_rank, a)) return false;
+    if (p.h.t == 0.0) {
+        std::copy(a, a + m_r_rank, at.r_basis);
+        return true;
+    }
+    if (!lookup(m_r_opt, double(p.h.i1) * m_r_grid.theta_d + d, col, m_r_rank, b)) return false;
+    for (int k = 0; k < m_r_rank; ++k) at.r_basis[k] = (1.0 - p.h.t) * a[k] + p.h.t * b[k];
     return true;
 }
 

@@ -1,7 +1,8 @@
 // NpfClosure's texture path: D and G looked up through OpenImageIO's TextureSystem, with the
 // mapping of docs/format.md sec. 6 (s, t over the display window, which is D's grid; explicit
 // wrap modes; no MIP levels; bilinear), and G's linear extrapolation beyond its last theta centre
-// done by hand from two row lookups, as the model evaluates it.
+// done by hand from two row lookups, as the model evaluates it. The detail layer's trilinear
+// lookup is two bilinear ones, in the two theta_h slices of its part (docs/format.md sec. 6).
 #pragma once
 
 #include <npf/shading/npf_closure.h>
@@ -40,9 +41,13 @@ private:
     bool m_owned = false;
     OIIO::ustring m_name;
     OIIO::TextureSystem::TextureHandle* m_handle = nullptr;
-    OIIO::TextureOpt m_d_opt, m_g_opt;  // copied per lookup: texture() rewrites its options
+    bool fill_detail(NpfModel::Lookup& at) const;
+
+    OIIO::TextureOpt m_d_opt, m_g_opt, m_r_opt;  // copied per lookup: texture() rewrites its options
     int m_d_theta = 0, m_d_phi = 0, m_g_theta = 0, m_g_phi = 0;
     int m_d_rank = 0, m_g_rank = 0;
+    DetailGrid m_r_grid;  // empty: no detail layer
+    int m_r_rank = 0;
 };
 
 }  // namespace npf

@@ -35,6 +35,11 @@ const std::vector<FlagSpec> kFlags = {
     {"--tolerance", true, "stop when a sweep lowers the weighted error by less than this, relative"},
     {"--g-prior", true, "smith (G starts from Smith's masking of D and stays <= 1), smith-start (starts there only), bounded (G <= 1 only) or free"},
     {"--plain", false, "no line-search extrapolation (the paper's plain alternation)"},
+    {"--detail", true, "detail layer grid THETA_H,THETA_D,PHI_D (u_h, theta_d, phi_d), or none (the paper's pure model; docs/fitting.md)"},
+    {"--detail-energy", true, "weight of the detail fit's energy term (0: none; default 1e4)"},
+    {"--horizon", true, "closed (default; preview and production: G falls to 0 at the horizon, no light gained at silhouettes) or open (G as fitted; the paper preset)"},
+    {"--detail-weight", true, "power p of the detail fit's display weight (f + eps)^-p (default 1.17; 0: plain least squares)"},
+    {"--detail-views", true, "view angles (degrees) at which the detail fit holds the source's albedo"},
     {"--error-pairs", true, "direction pairs of the BRDF-space error (0 skips it)"},
     {"--threads", true, "threads (default: all cores)"},
     {"--quiet", false, "no progress bar"},
@@ -67,7 +72,7 @@ std::vector<std::string> parts(const std::string& flag, const std::string& v, st
         if (comma == std::string::npos) break;
         start = comma + 1;
     }
-    if (out.size() != count) throw Error(flag, "expects " + std::to_string(count) + " comma-separated values, got '" + v + "'");
+    if (count > 0 && out.size() != count) throw Error(flag, "expects " + std::to_string(count) + " comma-separated values, got '" + v + "'");
     return out;
 }
 
@@ -167,6 +172,36 @@ int run_convert(const std::vector<std::string>& args) {
         else if (v == "free") o.smith_start = o.bound_g = false;
         else throw Error("--g-prior", "'" + v + "' is not smith, smith-start, bounded or free");
     }
+    if (cl.has("--detail")) {
+        const std::string v = cl.value("--detail");
+        if (v == "none") {
+            s.detail.grid = DetailGrid{};
+        } else {
+            const auto p = parts("--detail", v, 3);
+            s.detail.grid = {int(whole("--detail", p[0], 1, 1024)), int(whole("--detail", p[1], 1, 1024)),
+                             int(whole("--detail", p[2], 1, 4096))};
+        }
+    }
+    if (cl.has("--detail-energy")) {
+        s.detail.energy_weight = number("--detail-energy", cl.value("--detail-energy"));
+        if (!(s.detail.energy_weight >= 0.0)) throw Error("--detail-energy", "must not be negative");
+    }
+    if (cl.has("--horizon")) {
+        const std::string v = cl.value("--horizon");
+        if (v == "closed") s.close_horizon = true;
+        else if (v == "open") s.close_horizon = false;
+        else throw Error("--horizon", "'" + v + "' is not closed or open");
+    }
+    if (cl.has("--detail-weight")) {
+        s.detail.display_power = number("--detail-weight", cl.value("--detail-weight"));
+        if (!(s.detail.display_power >= 0.0 && s.detail.display_power <= 4.0)) throw Error("--detail-weight", "must lie in [0, 4]");
+    }
+    if (cl.has("--detail-views")) {
+        s.detail.energy_views_deg.clear();
+        for (const std::string& v : parts("--detail-views", cl.value("--detail-views"), 0)) {
+            s.detail.energy_views_deg.push_back(number("--detail-views", v));
+        }
+    }
     if (cl.has("--error-pairs")) s.error_pairs = int(whole("--error-pairs", cl.value("--error-pairs"), 0, 100000000));
     if (cl.has("--threads")) o.threads = int(whole("--threads", cl.value("--threads"), 1, 1024));
 
@@ -192,6 +227,22 @@ int run_convert(const std::vector<std::string>& args) {
         std::printf("  error       BRDF-space relative RMS %.3f %% mean, %.3f %% worst channel (fitted: %.3f %% / %.3f %%)\n",
                     100.0 * r.compressed_error.mean_relative_rms, 100.0 * r.compressed_error.max_relative_rms,
                     100.0 * r.fitted_error.mean_relative_rms, 100.0 * r.fitted_error.max_relative_rms);
+    }
+    if (s.close_horizon) {
+        std::printf("  horizon     G closed at the horizon in %d of %d columns (no light gained at grazing views)\n",
+                    r.horizon_columns_closed, r.isotropic ? 1 : o.g_phi);
+    }
+    if (r.has_detail) {
+        const DetailGrid& dg = s.detail.grid;
+        std::printf("  detail      %dx%dx%d (u_h, theta_d, phi_d), rank %d; weighted error %.4g -> %.4g; albedo error at "
+                    "the fit's views %.2f %% -> %.2f %%; %.1f s\n",
+                    dg.theta_h, dg.theta_d, dg.phi_d, r.detail_rank, r.detail.weighted_error_before,
+                    r.detail.weighted_error_after, 100.0 * r.detail.energy_error_before,
+                    100.0 * r.detail.energy_error_after, r.detail.seconds);
+        if (s.error_pairs > 0) {
+            std::printf("  error       with the detail layer: BRDF-space relative RMS %.3f %% mean, %.3f %% worst channel\n",
+                        100.0 * r.detailed_error.mean_relative_rms, 100.0 * r.detailed_error.max_relative_rms);
+        }
     }
     std::printf("  albedo      at most %.3f (view %.0f deg, %s)\n", r.albedo_max, r.albedo_max_theta_deg,
                 r.channels.name(r.albedo_max_channel).c_str());

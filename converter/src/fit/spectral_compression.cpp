@@ -22,8 +22,9 @@ double energy(const std::vector<double>& s, std::size_t count) {
     return e;
 }
 
-// `tables` holds `channels` tables of `cells` values each, channel after channel.
-SpectralBasis compress(const std::vector<float>& tables, std::size_t channels, std::size_t cells, double ratio,
+}  // namespace
+
+SpectralBasis compress_tables(const std::vector<float>& tables, std::size_t channels, std::size_t cells, double ratio,
                        int fixed_rank) {
     Eigen::MatrixXd a(static_cast<Eigen::Index>(cells), static_cast<Eigen::Index>(channels));
     for (std::size_t c = 0; c < channels; ++c) {
@@ -62,6 +63,8 @@ SpectralBasis compress(const std::vector<float>& tables, std::size_t channels, s
     }
     return s;
 }
+
+namespace {
 
 void check_ratio(double ratio, const char* name) {
     if (!(ratio > 0.0 && ratio <= 1.0)) {
@@ -108,8 +111,8 @@ NpfModel compress_factors(const NpfFactors& f, const CompressionOptions& options
     m.rho_d = f.rho_d;
     m.rho_s = f.rho_s;
     m.F = f.F;
-    m.D = compress(f.D, C, f.d_size(), options.d_ratio, options.d_rank);
-    m.G = compress(f.G, C, f.g_size(), options.g_ratio, options.g_rank);
+    m.D = compress_tables(f.D, C, f.d_size(), options.d_ratio, options.d_rank);
+    m.G = compress_tables(f.G, C, f.g_size(), options.g_ratio, options.g_rank);
     return m;
 }
 

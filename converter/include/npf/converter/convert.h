@@ -4,6 +4,7 @@
 #pragma once
 
 #include <npf/converter/fit/awls.h>
+#include <npf/converter/fit/detail_fit.h>
 #include <npf/converter/fit/fit_error.h>
 #include <npf/converter/fit/spectral_compression.h>
 #include <npf/core/brdf.h>
@@ -27,6 +28,12 @@ struct ConvertSettings {
     // sizes are set by convert_material from the source and the fields below.
     AwlsOptions fit;
     CompressionOptions compression;
+    // The detail layer fitted on top of the compressed factors (docs/fitting.md, "Detail layer");
+    // an empty grid writes the paper's pure model (the paper preset). Its threads follow fit's.
+    DetailOptions detail;
+    // Close G at the horizon (NpfModel::close_g_at_horizon) before the detail fit, so that no
+    // conversion gains light at grazing views; off in the paper preset (its pure model).
+    bool close_horizon = false;
     // RGB factors are stored losslessly unless this is set: three channels gain little from the
     // SVD, and what little they gain costs visible colour error (docs/fitting.md).
     bool compress_rgb = false;
@@ -53,7 +60,12 @@ struct ConvertReport {
     int d_rank = 0, g_rank = 0;
     double d_kept_ratio = 1.0, g_kept_ratio = 1.0;
     BrdfSpaceError fitted_error;      // the fitted factors before compression
-    BrdfSpaceError compressed_error;  // what the file holds
+    BrdfSpaceError compressed_error;  // the compressed factors, before any detail layer
+    BrdfSpaceError detailed_error;    // what the file holds, with its detail layer (when it has one)
+    int horizon_columns_closed = 0;
+    bool has_detail = false;
+    int detail_rank = 0;
+    DetailReport detail;
     std::uint64_t input_bytes = 0, output_bytes = 0;
     double seconds_compression = 0.0, seconds_error = 0.0, seconds_writing = 0.0, seconds = 0.0;
     double peak_memory_gib = 0.0;     // of the process, when known

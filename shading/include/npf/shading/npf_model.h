@@ -16,6 +16,11 @@
 // except beyond G's last theta centre: there G continues along the line through its last two
 // rows (never below 0), so that it can fall to 0 at grazing angles (NpfFactors::eval's rule).
 //
+// Detail layer (optional, format version 2): an additive residual r_c over (u_h, theta_d,
+// phi_d), stored like D and G as basis tables over its grid and per-channel weights
+// (detail_grid.h); the value is then max(0, NPF + r_c). Without it (detail_grid empty) the model
+// is the paper's.
+//
 // Evaluation interpolates the basis tables first and combines them per channel afterwards (the
 // order a texture-based shader follows), so the clamp at 0 applies to the interpolated value.
 // The direction work is done once per pair (prepare) and shared by every channel (value).
@@ -23,6 +28,7 @@
 
 #include <npf/core/channels.h>
 #include <npf/core/vec.h>
+#include <npf/shading/detail_grid.h>
 #include <npf/shading/table_interpolation.h>
 
 #include <cstddef>
@@ -57,11 +63,29 @@ struct NpfModel {
     std::vector<float> rho_d, rho_s;  // [C]
     std::vector<float> F;             // [C][f_theta]
     SpectralBasis D, G;               // D.cells = d_theta d_phi, G.cells = g_theta g_phi
+    // The detail layer: absent when detail_grid is empty (then detail.rank is 0).
+    DetailGrid detail_grid;
+    SpectralBasis detail;             // detail.cells = detail_grid.cells()
     // Free-form facts carried through the file (source, fitter settings, errors), in order.
     std::vector<std::pair<std::string, std::string>> metadata;
 
     std::size_t channel_count() const { return rho_d.size(); }
     bool isotropic() const { return d_phi == 1 && g_phi == 1; }
+    bool has_detail() const { return !detail_grid.empty(); }
+
+    // G's horizon rule (docs/format.md sec. 3, step 4): beyond its last row centre G continues
+    // along the line through its last two rows, reaching 1.5 G_last - 0.5 G_previous at the
+    // horizon itself. Where that stays above 0 the albedo grows like 1 / cos(theta_view) in the
+    // last fraction of a degree (silhouettes gain light without bound).
+    // The value of channel c's G at the horizon in column j (not clamped).
+    double g_at_horizon(std::size_t c, int column) const;
+    // Whether any channel with a specular term keeps G above 0 at the horizon.
+    bool g_open_at_horizon() const;
+    // Closes it: scales the last row's cell in each such column (every basis value, so all
+    // channels by one factor: the column keeps its colour) until G reaches 0 at the horizon in
+    // every channel with a specular term (G_last <= G_previous / 3). Directions up to the centre
+    // of the row before the last are unchanged. Returns the number of columns changed.
+    int close_g_at_horizon();
 
     // Throws npf::Error naming `source` when sizes disagree, a rank is out of range, a value is
     // not finite, rho_d, rho_s or F is negative, wavelengths are not positive and strictly
@@ -72,6 +96,9 @@ struct NpfModel {
     // are combined corner by corner, slower but the same values. (The texture path of NpfClosure
     // needs the cache, so this is also the largest rank it shades.)
     static constexpr int kInlineRank = 256;
+    // The largest detail grid a model may hold (docs/format.md sec. 8): 2^22 cells, 16 MiB of
+    // floats per basis table, far above any useful residual and far below what exhausts memory.
+    static constexpr std::size_t kMaxDetailCells = std::size_t(1) << 22;
 
     // Everything about one direction pair that every channel shares. No member initialisers:
     // prepare() fills every field, and the shading hot path should not pay for zeroing.
@@ -88,10 +115,14 @@ struct NpfModel {
         Bilinear d, g_i, g_o;
         int f0, f1;
         double f_t;
+        // The detail layer's position (has_detail() only): where on each axis, and its corners.
+        DetailPosition r_at;
+        Trilinear r;
         bool cached;  // basis values below are filled
         // Padded so the three arrays are not 4 KiB apart: loads of one would falsely wait on
         // stores to another (4K aliasing), which cost a third of an evaluation.
         double d_basis[kInlineRank + 8], g_i_basis[kInlineRank + 8], g_o_basis[kInlineRank + 8];
+        double r_basis[kInlineRank + 8];
     };
 
     // Fills `at` for the pair; false when either direction is at or below the horizon or not
@@ -134,7 +165,13 @@ inline double NpfModel::value(const Lookup& at, std::size_t c) const {
     go = go > 0.0 ? go : 0.0;
     const float* f = F.data() + c * std::size_t(f_theta);
     const double fv = f[at.f0] * (1 - at.f_t) + f[at.f1] * at.f_t;
-    return rho_d[c] + rho_s[c] * d * fv * gi * go * at.inv_cos_product;
+    const double base = rho_d[c] + rho_s[c] * d * fv * gi * go * at.inv_cos_product;
+    if (detail.rank == 0) return base;
+    const float* wr = detail.weights.data() + c * std::size_t(detail.rank);
+    double r = 0.0;
+    for (int k = 0; k < detail.rank; ++k) r += wr[k] * at.r_basis[k];
+    const double v = base + r;
+    return v > 0.0 ? v : 0.0;
 }
 
 }  // namespace npf

@@ -7,13 +7,17 @@
 
 namespace npf::npf_exr {
 
-constexpr int kFormatVersion = 1;
+// Version 2 added the optional detail layer (part "detail"); a file without one is written as
+// version 1, exactly as before, so older readers still read it. Readers take both.
+constexpr int kFormatVersion = 2;
+constexpr int kFormatVersionWithoutDetail = 1;
 
 // Parts, in the order they are written.
 constexpr const char* kPartD = "D";
 constexpr const char* kPartG = "G";
 constexpr const char* kPartF = "F";
 constexpr const char* kPartSpectral = "spectral";
+constexpr const char* kPartDetail = "detail";  // version 2, optional, written last
 
 // Channels of the "spectral" part besides the weights.
 constexpr const char* kWavelength = "wavelength";
@@ -36,6 +40,13 @@ constexpr const char* kAttrDKeptRatio = "npf:d_kept_ratio";     // doubles
 constexpr const char* kAttrGKeptRatio = "npf:g_kept_ratio";
 constexpr const char* kAttrDSingularValues = "npf:d_singular_values";  // string of %.17g numbers
 constexpr const char* kAttrGSingularValues = "npf:g_singular_values";
+// The detail layer (version 2; all present when part "detail" is, absent otherwise).
+constexpr const char* kAttrDetailThetaH = "npf:detail_theta_h";  // ints: grid sizes
+constexpr const char* kAttrDetailThetaD = "npf:detail_theta_d";
+constexpr const char* kAttrDetailPhiD = "npf:detail_phi_d";
+constexpr const char* kAttrDetailRank = "npf:detail_rank";                      // int
+constexpr const char* kAttrDetailKeptRatio = "npf:detail_kept_ratio";           // double
+constexpr const char* kAttrDetailSingularValues = "npf:detail_singular_values";  // string
 constexpr const char* kAttrMetadataKeys = "npf:metadata_keys";  // string, keys joined by '\n'
 constexpr const char* kMetadataPrefix = "npf:meta:";            // + key: string value
 // Per part (informative; readers rely on the grid sizes above): what x and y index.
@@ -58,5 +69,7 @@ constexpr const char* kGBasis = "G.u";    // part G: basis tables
 constexpr const char* kFChannel = "F.c";  // part F: one channel per stored channel
 constexpr const char* kDWeight = "D.v";   // part spectral: weights of the D basis
 constexpr const char* kGWeight = "G.v";   // part spectral: weights of the G basis
+constexpr const char* kRBasis = "R.u";    // part detail: basis tables of the residual
+constexpr const char* kRWeight = "R.v";   // part spectral: weights of the residual's basis
 
 }  // namespace npf::npf_exr

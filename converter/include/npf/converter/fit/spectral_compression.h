@@ -32,6 +32,11 @@ struct CompressionOptions {
 // npf::Error for options out of range or factors whose table sizes disagree.
 NpfModel compress_factors(const NpfFactors& factors, const CompressionOptions& options);
 
+// The same compression for any set of tables: `tables` holds `channels` tables of `cells` values,
+// channel after channel; the rank by `ratio`, or `fixed_rank` when positive (the detail layer's).
+SpectralBasis compress_tables(const std::vector<float>& tables, std::size_t channels, std::size_t cells, double ratio,
+                              int fixed_rank);
+
 // The smallest rank whose cumulative contribution ratio reaches `ratio` (see above); all of
 // them for ratio >= 1, 1 when every singular value is 0.
 int rank_for_ratio(const std::vector<double>& singular_values, double ratio);

@@ -1,0 +1,553 @@
+#include <npf/converter/fit/detail_fit.h>
+
+#include "parallel.h"
+
+#include <npf/converter/fit/rusinkiewicz.h>
+#include <npf/converter/fit/spectral_compression.h>
+#include <npf/core/error.h>
+
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <thread>
+
+namespace npf {
+
+namespace {
+
+constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
+constexpr int kStencil = 27;  // the 3 x 3 x 3 neighbourhood of a cell
+// Channels beyond this many share one data weight (from their mean), and so one matrix: a
+// spectral material's neighbouring wavelengths then also warm-start each other's solve.
+constexpr std::size_t kMaxWeightGroups = 16;
+
+const char* const kWhat = "detail layer";
+
+// The samples along one axis: their angle, their interpolation on the detail grid and the
+// axis' share of the cell measure.
+struct Axis {
+    std::vector<double> angle, measure;
+    std::vector<table::Lerp> lerp;
+};
+
+// Slot of corner b relative to corner a in a's 27-point stencil.
+int stencil_slot(int dh, int dd, int dp) { return (dh + 1) * 9 + (dd + 1) * 3 + (dp + 1); }
+
+int periodic_step(int from, int to, int n) {
+    const int d = ((to - from) % n + n) % n;
+    return d == 0 ? 0 : (d == 1 ? 1 : -1);
+}
+
+struct Corners {
+    int h[8], d[8], p[8];
+    std::uint32_t index[8];
+    double weight[8];
+};
+
+Corners corners_of(const DetailGrid& g, const table::Lerp& h, const table::Lerp& d, const table::Lerp& p) {
+    Corners c;
+    int k = 0;
+    for (int a = 0; a < 2; ++a) {
+        for (int b = 0; b < 2; ++b) {
+            for (int e = 0; e < 2; ++e, ++k) {
+                c.h[k] = a ? h.i1 : h.i0;
+                c.d[k] = b ? d.i1 : d.i0;
+                c.p[k] = e ? p.i1 : p.i0;
+                c.index[k] = std::uint32_t(g.index(c.h[k], c.d[k], c.p[k]));
+                c.weight[k] = (a ? h.t : 1.0 - h.t) * (b ? d.t : 1.0 - d.t) * (e ? p.t : 1.0 - p.t);
+            }
+        }
+    }
+    return c;
+}
+
+// The symmetric operator of one channel's normal equations, applied without forming it:
+// the data term's stencil (shared by the channels of a weight group), the smoothness term and
+// the energy rows (dense vectors over the cells, weighted per channel).
+struct NormalOperator {
+    const std::vector<double>* stencil = nullptr;    // [cells][27]
+    const std::vector<std::int32_t>* neighbour = nullptr;  // [cells][27], -1 outside the grid
+    const std::vector<std::vector<double>>* rows = nullptr;  // energy rows a_v
+    std::vector<double> row_weight;                  // per energy row, for this channel
+    std::size_t cells = 0;
+
+    void apply(const std::vector<double>& x, std::vector<double>& y) const {
+        const double* s = stencil->data();
+        const std::int32_t* nb = neighbour->data();
+        for (std::size_t i = 0; i < cells; ++i) {
+            double v = 0.0;
+            for (int k = 0; k < kStencil; ++k) {
+                const std::int32_t j = nb[i * kStencil + std::size_t(k)];
+                if (j >= 0) v += s[i * kStencil + std::size_t(k)] * x[std::size_t(j)];
+            }
+            y[i] = v;
+        }
+        for (std::size_t v = 0; v < rows->size(); ++v) {
+            if (!(row_weight[v] > 0.0)) continue;
+            const std::vector<double>& a = (*rows)[v];
+            double dot = 0.0;
+            for (std::size_t i = 0; i < cells; ++i) dot += a[i] * x[i];
+            dot *= row_weight[v];
+            for (std::size_t i = 0; i < cells; ++i) y[i] += a[i] * dot;
+        }
+    }
+
+    double diagonal(std::size_t i) const {
+        double d = (*stencil)[i * kStencil + std::size_t(stencil_slot(0, 0, 0))];
+        for (std::size_t v = 0; v < rows->size(); ++v) d += row_weight[v] * (*rows)[v][i] * (*rows)[v][i];
+        return d;
+    }
+};
+
+// Jacobi-preconditioned conjugate gradients from the starting point in x; the iterations used.
+int solve(const NormalOperator& op, const std::vector<double>& b, std::vector<double>& x, int max_iterations,
+          double tolerance) {
+    const std::size_t n = op.cells;
+    std::vector<double> inv_diag(n), r(n), z(n), p(n), q(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double d = op.diagonal(i);
+        inv_diag[i] = d > 0.0 ? 1.0 / d : 0.0;
+    }
+    op.apply(x, q);
+    double b_norm = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        r[i] = b[i] - q[i];
+        b_norm += b[i] * b[i];
+    }
+    b_norm = std::sqrt(b_norm);
+    if (!(b_norm > 0.0)) {
+        std::fill(x.begin(), x.end(), 0.0);
+        return 0;
+    }
+    double rz = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        z[i] = inv_diag[i] * r[i];
+        p[i] = z[i];
+        rz += r[i] * z[i];
+    }
+    int it = 0;
+    for (; it < max_iterations; ++it) {
+        double r_norm = 0.0;
+        for (std::size_t i = 0; i < n; ++i) r_norm += r[i] * r[i];
+        if (std::sqrt(r_norm) <= tolerance * b_norm) break;
+        op.apply(p, q);
+        double pq = 0.0;
+        for (std::size_t i = 0; i < n; ++i) pq += p[i] * q[i];
+        if (!(pq > 0.0)) break;
+        const double alpha = rz / pq;
+        double rz_next = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * q[i];
+            z[i] = inv_diag[i] * r[i];
+            rz_next += r[i] * z[i];
+        }
+        const double beta = rz_next / rz;
+        rz = rz_next;
+        for (std::size_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+    }
+    return it;
+}
+
+void check(const DetailOptions& o) {
+    const DetailGrid& g = o.grid;
+    if (g.theta_h < 1 || g.theta_d < 1 || g.phi_d < 1 || g.theta_h > 1024 || g.theta_d > 1024 || g.phi_d > 4096 ||
+        g.cells() > NpfModel::kMaxDetailCells) {
+        throw Error(kWhat, "grid " + std::to_string(g.theta_h) + "x" + std::to_string(g.theta_d) + "x" +
+                               std::to_string(g.phi_d) + " is outside 1..1024 x 1..1024 x 1..4096 (" +
+                               std::to_string(NpfModel::kMaxDetailCells) + " cells at most)");
+    }
+    if (o.samples_per_cell < 1 || o.samples_per_cell > 16) throw Error(kWhat, "samples per cell must be 1..16");
+    if (o.phi_h_samples < 1 || o.phi_h_samples > 256) throw Error(kWhat, "phi_h samples must be 1..256");
+    if (!(o.display_power >= 0.0 && o.display_power <= 4.0)) throw Error(kWhat, "display power must be 0..4");
+    if (!(o.display_epsilon > 0.0)) throw Error(kWhat, "display epsilon must be positive");
+    if (!(o.energy_weight >= 0.0) || !std::isfinite(o.energy_weight)) throw Error(kWhat, "energy weight must be >= 0");
+    if (!(o.smoothness >= 0.0) || !std::isfinite(o.smoothness)) throw Error(kWhat, "smoothness must be >= 0");
+    if (!(o.ratio > 0.0 && o.ratio <= 1.0)) throw Error(kWhat, "ratio must lie in (0, 1]");
+    if (o.rank < 0) throw Error(kWhat, "rank must be 0 (by ratio) or positive");
+    for (double v : o.energy_views_deg) {
+        if (!(v >= 0.0 && v < 90.0)) throw Error(kWhat, "energy views must lie in [0, 90) degrees");
+    }
+}
+
+Vec3 to_float(const Vec3d& v) { return Vec3(float(v.x), float(v.y), float(v.z)); }
+
+}  // namespace
+
+DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailOptions& o,
+                              const std::function<void(double)>& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    check(o);
+    model.detail_grid = DetailGrid{};
+    model.detail = SpectralBasis{};
+    model.validate(kWhat);
+    const NpfModel base_model = model;
+    const ChannelQuery query = source.query(model.channels);
+    const std::size_t C = model.channel_count();
+    const DetailGrid& g = o.grid;
+    const std::size_t cells = g.cells();
+    const int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    const std::size_t groups = C <= kMaxWeightGroups ? C : 1;
+    auto group_of = [&](std::size_t c) { return groups == 1 ? 0 : c; };
+    auto report_progress = [&](double f) {
+        if (progress) progress(f);
+    };
+
+    // ---- The data samples: a regular grid, k per cell and axis --------------------------------
+    const int k = o.samples_per_cell;
+    const int sh = g.theta_h * k, sd = g.theta_d * k, sp = g.phi_d * k;
+    const int se = model.isotropic() ? 1 : o.phi_h_samples;
+    Axis ah, ad, ap;
+    for (int a = 0; a < sh; ++a) {
+        const double u = (a + 0.5) / sh;
+        ah.angle.push_back(kHalfPi * u * u);
+        ah.measure.push_back(kPiD * u / sh);  // d(theta_h) = pi u du
+        ah.lerp.push_back(detail_position(g, u, 0.0, 0.0).h);
+    }
+    for (int b = 0; b < sd; ++b) {
+        const double td = kHalfPi * (b + 0.5) / sd;
+        ad.angle.push_back(td);
+        ad.measure.push_back(kHalfPi / sd);
+        ad.lerp.push_back(detail_position(g, 0.0, td, 0.0).d);
+    }
+    for (int c = 0; c < sp; ++c) {
+        const double pd = kTwoPi * (c + 0.5) / sp;
+        ap.angle.push_back(pd);
+        ap.measure.push_back(kTwoPi / sp);
+        ap.lerp.push_back(detail_position(g, 0.0, 0.0, pd).p);
+    }
+    const std::size_t per_row = std::size_t(sd) * std::size_t(sp) * std::size_t(se);
+    const std::size_t samples = std::size_t(sh) * per_row;
+    std::vector<float> residual(samples * C), weight(samples * groups, 0.f);
+    std::vector<double> row_error(std::size_t(sh) * C, 0.0), row_norm(std::size_t(sh) * C, 0.0);
+    std::vector<std::size_t> row_valid(std::size_t(sh), 0);
+    fit_detail::parallel_slices(std::size_t(sh), threads, [&](int, std::size_t begin, std::size_t end) {
+        std::vector<float> raw(C);
+        std::vector<double> base(C);
+        for (std::size_t a = begin; a < end; ++a) {
+            for (int b = 0; b < sd; ++b) {
+                for (int c = 0; c < sp; ++c) {
+                    for (int e = 0; e < se; ++e) {
+                        const std::size_t s = ((a * std::size_t(sd) + std::size_t(b)) * std::size_t(sp) +
+                                               std::size_t(c)) * std::size_t(se) + std::size_t(e);
+                        HalfDiff hd;
+                        hd.theta_h = ah.angle[a];
+                        hd.phi_h = se == 1 ? 0.0 : kTwoPi * (e + 0.5) / se;
+                        hd.theta_d = ad.angle[std::size_t(b)];
+                        hd.phi_d = ap.angle[std::size_t(c)];
+                        Vec3d wi, wo;
+                        directions_from_half_diff(hd, wi, wo);
+                        if (!(wi.z > 1e-6) || !(wo.z > 1e-6)) continue;
+                        const Vec3 fi = to_float(wi), fo = to_float(wo);
+                        source.eval_cos(fi, fo, query, raw.data());
+                        model.eval_all(fi, fo, base.data());
+                        const double measure = 4.0 * std::sin(hd.theta_h) * std::sin(hd.theta_d) *
+                                               std::cos(hd.theta_d) * ah.measure[a] * ad.measure[std::size_t(b)] *
+                                               ap.measure[std::size_t(c)] * (kTwoPi / se) * wi.z * wo.z;
+                        double mean = 0.0;
+                        bool finite = true;
+                        for (std::size_t ch = 0; ch < C; ++ch) {
+                            const double f = double(raw[ch]) / fo.z;
+                            finite = finite && std::isfinite(f);
+                            residual[s * C + ch] = float(f - base[ch]);
+                            mean += std::max(f, 0.0);
+                        }
+                        if (!finite) continue;
+                        mean /= double(C);
+                        for (std::size_t gr = 0; gr < groups; ++gr) {
+                            const double f = groups == 1 ? mean : std::max(double(raw[gr]) / fo.z, 0.0);
+                            weight[s * groups + gr] =
+                                float(measure * std::pow(f + o.display_epsilon, -o.display_power));
+                        }
+                        ++row_valid[a];
+                        for (std::size_t ch = 0; ch < C; ++ch) {
+                            const double w = weight[s * groups + group_of(ch)];
+                            const double f = double(raw[ch]) / fo.z;
+                            row_error[a * C + ch] += w * double(residual[s * C + ch]) * residual[s * C + ch];
+                            row_norm[a * C + ch] += w * f * f;
+                        }
+                    }
+                }
+            }
+        }
+    });
+    report_progress(0.3);
+
+    DetailReport report;
+    std::vector<double> data_error(C, 0.0), data_norm(C, 0.0);
+    for (std::size_t a = 0; a < std::size_t(sh); ++a) {
+        report.samples += row_valid[a];
+        for (std::size_t ch = 0; ch < C; ++ch) {
+            data_error[ch] += row_error[a * C + ch];
+            data_norm[ch] += row_norm[a * C + ch];
+        }
+    }
+    for (std::size_t ch = 0; ch < C; ++ch) {
+        report.weighted_error_before += data_norm[ch] > 0.0 ? data_error[ch] / data_norm[ch] / double(C) : 0.0;
+    }
+
+    // ---- The data term's normal equations, one stencil per weight group -----------------------
+    // Each cell's rows are summed by the thread that owns its theta_h slice, over the samples in
+    // their fixed order: the same sums on any number of threads.
+    std::vector<std::vector<double>> stencil(groups, std::vector<double>(cells * kStencil, 0.0));
+    std::vector<std::vector<double>> rhs(C, std::vector<double>(cells, 0.0));
+    fit_detail::parallel_slices(std::size_t(g.theta_h), threads, [&](int, std::size_t begin, std::size_t end) {
+        for (std::size_t h = begin; h < end; ++h) {
+            for (std::size_t a = 0; a < std::size_t(sh); ++a) {
+                if (std::size_t(ah.lerp[a].i0) != h && std::size_t(ah.lerp[a].i1) != h) continue;
+                for (int b = 0; b < sd; ++b) {
+                    for (int c = 0; c < sp; ++c) {
+                        const Corners q = corners_of(g, ah.lerp[a], ad.lerp[std::size_t(b)], ap.lerp[std::size_t(c)]);
+                        for (int e = 0; e < se; ++e) {
+                            const std::size_t s = ((a * std::size_t(sd) + std::size_t(b)) * std::size_t(sp) +
+                                                   std::size_t(c)) * std::size_t(se) + std::size_t(e);
+                            for (int j = 0; j < 8; ++j) {
+                                if (std::size_t(q.h[j]) != h || q.weight[j] == 0.0) continue;
+                                const std::size_t i = q.index[j];
+                                for (std::size_t gr = 0; gr < groups; ++gr) {
+                                    const double w = weight[s * groups + gr] * q.weight[j];
+                                    if (w == 0.0) continue;
+                                    double* row = stencil[gr].data() + i * kStencil;
+                                    for (int m = 0; m < 8; ++m) {
+                                        row[stencil_slot(q.h[m] - q.h[j], q.d[m] - q.d[j],
+                                                         periodic_step(q.p[j], q.p[m], g.phi_d))] += w * q.weight[m];
+                                    }
+                                }
+                                for (std::size_t ch = 0; ch < C; ++ch) {
+                                    rhs[ch][i] += double(weight[s * groups + group_of(ch)]) * q.weight[j] *
+                                                  residual[s * C + ch];
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    });
+    report_progress(0.5);
+
+    // Neighbours of each cell in stencil order (-1 outside the grid).
+    std::vector<std::int32_t> neighbour(cells * kStencil, -1);
+    for (int h = 0; h < g.theta_h; ++h) {
+        for (int d = 0; d < g.theta_d; ++d) {
+            for (int p = 0; p < g.phi_d; ++p) {
+                const std::size_t i = g.index(h, d, p);
+                for (int dh = -1; dh <= 1; ++dh) {
+                    for (int dd = -1; dd <= 1; ++dd) {
+                        for (int dp = -1; dp <= 1; ++dp) {
+                            const int hh = h + dh, ddd = d + dd;
+                            if (hh < 0 || hh >= g.theta_h || ddd < 0 || ddd >= g.theta_d) continue;
+                            // A periodic axis of 1 or 2 cells reaches the same neighbour both ways:
+                            // the assembly uses the slot periodic_step names, the other stays 0.
+                            const int pp = ((p + dp) % g.phi_d + g.phi_d) % g.phi_d;
+                            if (dp != 0 && periodic_step(p, pp, g.phi_d) != dp) continue;
+                            neighbour[i * kStencil + std::size_t(stencil_slot(dh, dd, dp))] =
+                                std::int32_t(g.index(hh, ddd, pp));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Smoothness: lambda (x_i - x_j)^2 over face neighbours, lambda relative to the data term.
+    for (std::size_t gr = 0; gr < groups; ++gr) {
+        double diagonal_sum = 0.0;
+        std::size_t diagonal_count = 0;
+        for (std::size_t i = 0; i < cells; ++i) {
+            const double d = stencil[gr][i * kStencil + std::size_t(stencil_slot(0, 0, 0))];
+            if (d > 0.0) {
+                diagonal_sum += d;
+                ++diagonal_count;
+            }
+        }
+        const double mean_diagonal = diagonal_count ? diagonal_sum / double(diagonal_count) : 1.0;
+        const double lambda = o.smoothness * mean_diagonal;
+        const int centre = stencil_slot(0, 0, 0);
+        for (std::size_t i = 0; i < cells; ++i) {
+            double* row = stencil[gr].data() + i * kStencil;
+            row[centre] += 1e-9 * mean_diagonal;  // keeps cells no sample and no neighbour reaches defined
+            for (const int slot : {stencil_slot(-1, 0, 0), stencil_slot(1, 0, 0), stencil_slot(0, -1, 0),
+                                   stencil_slot(0, 1, 0), stencil_slot(0, 0, -1), stencil_slot(0, 0, 1)}) {
+                if (neighbour[i * kStencil + std::size_t(slot)] < 0) continue;
+                if (g.phi_d <= 2 && (slot == stencil_slot(0, 0, -1) || slot == stencil_slot(0, 0, 1))) continue;
+                row[centre] += lambda;
+                row[slot] -= lambda;
+            }
+        }
+    }
+
+    // ---- Energy rows: the directional albedo at each view, by a half-vector quadrature ---------
+    // albedo(wi) = integral f(wi, wo) cos(theta_o) d(omega_o), wo = reflect(wi, h),
+    // d(omega_o) = 4 (wi . h) d(omega_h), h on a square-root grid in theta_h (dense at the peak).
+    std::vector<double> views;
+    std::vector<double> view_azimuths;
+    if (o.energy_weight > 0.0) {
+        const std::vector<double> azimuths = model.isotropic() ? std::vector<double>{0.0}
+                                                               : std::vector<double>{0.0, 0.25 * kPiD, 0.5 * kPiD,
+                                                                                     0.75 * kPiD};
+        for (double v : o.energy_views_deg) {
+            for (double phi : azimuths) {
+                views.push_back(v * kPiD / 180.0);
+                view_azimuths.push_back(phi);
+            }
+        }
+    }
+    const std::size_t V = views.size();
+    std::vector<std::vector<double>> rows(V, std::vector<double>(cells, 0.0));
+    std::vector<double> albedo_source(V * C, 0.0), albedo_base(V * C, 0.0);
+    {
+        constexpr int kU = 128, kPhi = 128;
+        fit_detail::parallel_slices(V, threads, [&](int, std::size_t begin, std::size_t end) {
+            std::vector<float> raw(C);
+            std::vector<double> base(C);
+            for (std::size_t v = begin; v < end; ++v) {
+                const double st = std::sin(views[v]), ct = std::cos(views[v]);
+                const Vec3d wi{st * std::cos(view_azimuths[v]), st * std::sin(view_azimuths[v]), ct};
+                for (int a = 0; a < kU; ++a) {
+                    const double u = (a + 0.5) / kU, theta_h = kHalfPi * u * u;
+                    const double dtheta = kPiD * u / kU, sh_ = std::sin(theta_h), ch_ = std::cos(theta_h);
+                    for (int b = 0; b < kPhi; ++b) {
+                        const double phi = kTwoPi * (b + 0.5) / kPhi;
+                        const Vec3d h{sh_ * std::cos(phi), sh_ * std::sin(phi), ch_};
+                        const double cos_ih = wi.x * h.x + wi.y * h.y + wi.z * h.z;
+                        if (!(cos_ih > 0.0)) continue;
+                        const Vec3d wo{2.0 * cos_ih * h.x - wi.x, 2.0 * cos_ih * h.y - wi.y, 2.0 * cos_ih * h.z - wi.z};
+                        if (!(wo.z > 1e-6) || !(wi.z > 1e-6)) continue;
+                        const double q = 4.0 * cos_ih * sh_ * dtheta * (kTwoPi / kPhi) * wo.z;
+                        const Vec3 fi = to_float(wi), fo = to_float(wo);
+                        source.eval_cos(fi, fo, query, raw.data());
+                        model.eval_all(fi, fo, base.data());
+                        bool finite = true;
+                        for (std::size_t ch = 0; ch < C; ++ch) finite = finite && std::isfinite(raw[ch]);
+                        if (!finite) continue;
+                        for (std::size_t ch = 0; ch < C; ++ch) {
+                            albedo_source[v * C + ch] += q * std::max(0.0, double(raw[ch]) / fo.z);
+                            albedo_base[v * C + ch] += q * base[ch];
+                        }
+                        const HalfDiff hd = half_diff_from_directions(wi, wo);
+                        const DetailPosition at = detail_position(g, std::sqrt(hd.theta_h / kHalfPi), hd.theta_d,
+                                                                  hd.phi_d);
+                        const Trilinear t = trilinear(g, at);
+                        for (int j = 0; j < 8; ++j) rows[v][t.index[j]] += q * t.weight[j];
+                    }
+                }
+            }
+        });
+    }
+    report_progress(0.6);
+    auto energy_error = [&](const std::vector<double>& model_albedo) {
+        double worst = 0.0;
+        for (std::size_t i = 0; i < V * C; ++i) {
+            if (albedo_source[i] > 1e-4) worst = std::max(worst, std::abs(model_albedo[i] / albedo_source[i] - 1.0));
+        }
+        return worst;
+    };
+    report.energy_error_before = energy_error(albedo_base);
+
+    // ---- Solve per channel ---------------------------------------------------------------------
+    std::vector<float> tables(C * cells, 0.f);
+    std::vector<std::vector<double>> warm(groups, std::vector<double>(cells, 0.0));
+    std::vector<int> iterations(C, 0);
+    // Channels of one group run in order (each starts from the previous one's solution); groups in
+    // parallel.
+    fit_detail::parallel_slices(groups, threads, [&](int, std::size_t begin, std::size_t end) {
+        for (std::size_t gr = begin; gr < end; ++gr) {
+            for (std::size_t ch = 0; ch < C; ++ch) {
+                if (group_of(ch) != gr) continue;
+                NormalOperator op;
+                op.stencil = &stencil[gr];
+                op.neighbour = &neighbour;
+                op.rows = &rows;
+                op.cells = cells;
+                op.row_weight.assign(V, 0.0);
+                std::vector<double> b = rhs[ch];
+                if (V > 0 && data_error[ch] > 0.0) {
+                    // A 1 % albedo error at every view costs energy_weight 1e-4 times the base's misfit.
+                    const double lambda = o.energy_weight * data_error[ch] / double(V);
+                    double largest = 0.0;
+                    for (std::size_t v = 0; v < V; ++v) largest = std::max(largest, albedo_source[v * C + ch]);
+                    for (std::size_t v = 0; v < V; ++v) {
+                        const double scale = std::max(albedo_source[v * C + ch], 1e-3 * largest);
+                        if (!(scale > 0.0)) continue;
+                        op.row_weight[v] = lambda / (scale * scale);
+                        const double target = albedo_source[v * C + ch] - albedo_base[v * C + ch];
+                        for (std::size_t i = 0; i < cells; ++i) b[i] += op.row_weight[v] * rows[v][i] * target;
+                    }
+                }
+                std::vector<double>& x = warm[gr];
+                iterations[ch] = solve(op, b, x, o.max_iterations, o.tolerance);
+                for (std::size_t i = 0; i < cells; ++i) tables[ch * cells + i] = float(x[i]);
+            }
+        }
+    });
+    for (int it : iterations) report.iterations_max = std::max(report.iterations_max, it);
+    report_progress(0.8);
+
+    // ---- Compress across channels, store ---------------------------------------------------------
+    SpectralBasis basis = compress_tables(tables, C, cells, o.ratio, o.rank);
+    if (o.half_precision) {
+        for (float& v : basis.basis) v = float(Imath::half(v));
+    }
+    model.detail_grid = g;
+    model.detail = std::move(basis);
+    model.validate(kWhat);
+
+    // ---- What the stored layer achieves (clamp included) -----------------------------------------
+    {
+        std::vector<double> albedo_after(V * C, 0.0);
+        for (std::size_t v = 0; v < V; ++v) {
+            for (std::size_t ch = 0; ch < C; ++ch) albedo_after[v * C + ch] = albedo_base[v * C + ch];
+        }
+        // The linear part exactly; the clamp's effect is left to npf albedo's measurement.
+        for (std::size_t v = 0; v < V; ++v) {
+            for (std::size_t ch = 0; ch < C; ++ch) {
+                double dot = 0.0;
+                for (std::size_t i = 0; i < cells; ++i) dot += rows[v][i] * model.detail.at(ch, i);
+                albedo_after[v * C + ch] += dot;
+            }
+        }
+        report.energy_error_after = energy_error(albedo_after);
+        std::vector<double> error_after(std::size_t(sh) * C, 0.0);
+        fit_detail::parallel_slices(std::size_t(sh), threads, [&](int, std::size_t begin, std::size_t end) {
+            std::vector<double> with(C), without(C);
+            for (std::size_t a = begin; a < end; ++a) {
+                for (int b = 0; b < sd; ++b) {
+                    for (int c = 0; c < sp; ++c) {
+                        for (int e = 0; e < se; ++e) {
+                            const std::size_t s = ((a * std::size_t(sd) + std::size_t(b)) * std::size_t(sp) +
+                                                   std::size_t(c)) * std::size_t(se) + std::size_t(e);
+                            if (!(weight[s * groups] > 0.f)) continue;
+                            HalfDiff hd;
+                            hd.theta_h = ah.angle[a];
+                            hd.phi_h = se == 1 ? 0.0 : kTwoPi * (e + 0.5) / se;
+                            hd.theta_d = ad.angle[std::size_t(b)];
+                            hd.phi_d = ap.angle[std::size_t(c)];
+                            Vec3d wi, wo;
+                            directions_from_half_diff(hd, wi, wo);
+                            model.eval_all(to_float(wi), to_float(wo), with.data());
+                            base_model.eval_all(to_float(wi), to_float(wo), without.data());
+                            for (std::size_t ch = 0; ch < C; ++ch) {
+                                const double r = double(residual[s * C + ch]) - (with[ch] - without[ch]);
+                                error_after[a * C + ch] += double(weight[s * groups + group_of(ch)]) * r * r;
+                            }
+                        }
+                    }
+                }
+            }
+        });
+        for (std::size_t ch = 0; ch < C; ++ch) {
+            double e = 0.0;
+            for (std::size_t a = 0; a < std::size_t(sh); ++a) e += error_after[a * C + ch];
+            report.weighted_error_after += data_norm[ch] > 0.0 ? e / data_norm[ch] / double(C) : 0.0;
+        }
+    }
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    report_progress(1.0);
+    return report;
+}
+
+}  // namespace npf

@@ -1,0 +1,93 @@
+// The detail layer's grid (docs/format.md sec. 2 and 3): an additive residual r_c over three of
+// Rusinkiewicz's angles, added to the NPF model's value where the separable factors cannot follow
+// the measurement:
+//   f_r = max(0, NPF(wi, wo) + r_c(u_h, theta_d, phi_d))
+// with u_h = sqrt(theta_h / (pi/2)) (the D table's square-root map: dense at the specular peak),
+// theta_d and phi_d of wi (the conditioning, viewer-side direction) in the frame of the half
+// vector, phi_d over the whole [0, 2 pi): measured materials are not reciprocal near grazing, and
+// a residual folded to [0, pi) cannot hold that (docs/fitting.md, "Detail layer").
+//
+// Cells are indexed [theta_h][theta_d][phi_d], values at cell centres ((k + 1/2) / n of each
+// axis' unit range), trilinear between centres, clamped in u_h and theta_d, periodic in phi_d.
+// One definition for the fitter (converter/fit/detail_fit), the stored model (NpfModel) and the
+// texture path, so that a file shades exactly as its fit.
+#pragma once
+
+#include <npf/core/vec.h>
+#include <npf/shading/table_interpolation.h>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace npf {
+
+struct DetailGrid {
+    int theta_h = 0, theta_d = 0, phi_d = 0;  // all 0: no detail layer
+
+    bool empty() const { return theta_h <= 0 || theta_d <= 0 || phi_d <= 0; }
+    std::size_t cells() const { return empty() ? 0 : std::size_t(theta_h) * std::size_t(theta_d) * std::size_t(phi_d); }
+    std::size_t index(int h, int d, int p) const {
+        return (std::size_t(h) * std::size_t(theta_d) + std::size_t(d)) * std::size_t(phi_d) + std::size_t(p);
+    }
+    bool operator==(const DetailGrid& o) const {
+        return theta_h == o.theta_h && theta_d == o.theta_d && phi_d == o.phi_d;
+    }
+    bool operator!=(const DetailGrid& o) const { return !(*this == o); }
+};
+
+// The eight corners around a position and their weights.
+struct Trilinear {
+    std::uint32_t index[8];
+    double weight[8];
+};
+
+// Where a position falls on each axis (cells, centres at integers), for lookups that interpolate
+// elsewhere (a texture): h and d clamped to [0, n - 1], p in [0, n).
+struct DetailPosition {
+    table::Lerp h, d, p;
+};
+
+inline DetailPosition detail_position(const DetailGrid& g, double u_h, double theta_d, double phi_d) {
+    constexpr double kInvHalfPi = 2.0 / kPiD, kInvTwoPi = 0.5 / kPiD;
+    DetailPosition at;
+    at.h = table::clamped(u_h * g.theta_h, g.theta_h);
+    at.d = table::clamped(theta_d * kInvHalfPi * g.theta_d, g.theta_d);
+    at.p = table::periodic(phi_d * kInvTwoPi * g.phi_d, g.phi_d);
+    return at;
+}
+
+inline Trilinear trilinear(const DetailGrid& g, const DetailPosition& at) {
+    Trilinear t;
+    const table::Lerp& h = at.h;
+    const table::Lerp& d = at.d;
+    const table::Lerp& p = at.p;
+    int k = 0;
+    for (int a = 0; a < 2; ++a) {
+        const int hi = a ? h.i1 : h.i0;
+        const double wh = a ? h.t : 1.0 - h.t;
+        for (int b = 0; b < 2; ++b) {
+            const int di = b ? d.i1 : d.i0;
+            const double wd = wh * (b ? d.t : 1.0 - d.t);
+            for (int c = 0; c < 2; ++c, ++k) {
+                t.index[k] = std::uint32_t(g.index(hi, di, c ? p.i1 : p.i0));
+                t.weight[k] = wd * (c ? p.t : 1.0 - p.t);
+            }
+        }
+    }
+    return t;
+}
+
+// phi_d of the pair: the azimuth of wi in the frame of the half vector (wi rotated by -phi_h about
+// the normal, then by -theta_h about the bitangent), in [0, 2 pi). (hx, hy, hz) = wi + wo, not
+// normalised; `length` is its length. At the pole (h along the normal) phi_h is taken as 0.
+inline double detail_phi_d(double ix, double iy, double iz, double hx, double hy, double hz, double length) {
+    const double r2 = hx * hx + hy * hy;
+    if (!(r2 > 1e-24 * length * length)) return table::azimuth(ix, iy);
+    // d scaled by r |H| > 0, which leaves its azimuth unchanged:
+    //   d_x = cos theta_h (cos phi_h ix + sin phi_h iy) - sin theta_h iz,  d_y = -sin phi_h ix + cos phi_h iy.
+    const double dx = hz * (hx * ix + hy * iy) - r2 * iz;
+    const double dy = length * (hx * iy - hy * ix);
+    return table::azimuth(dx, dy);
+}
+
+}  // namespace npf
