@@ -131,6 +131,36 @@ TEST(CliConvert, WarnsWhenTheFitReflectsMoreLightThanItReceives) {
     EXPECT_TRUE(contains(info.out, "albedo_max: 1.")) << info.out;
 }
 
+// The default conversion carries a detail layer and closes G at the horizon; the paper preset
+// writes the paper's pure model (no detail, format version 1); --detail none turns it off.
+TEST(CliConvert, DefaultCarriesADetailLayerAndThePaperPresetDoesNot) {
+    const std::string dir = npf::testing::temporary_folder("convert");
+    const std::vector<std::string> small = {"--grid", "16,1,16,32", "--g-grid", "16,1", "--wavelengths", "rgb",
+                                            "--quiet", "--threads", "2", "--error-pairs", "500"};
+    auto run = [&](const std::string& name, std::vector<std::string> extra) {
+        std::vector<std::string> args = {recipe("red_plastic"), "-o", dir + "/" + name + ".exr"};
+        args.insert(args.end(), small.begin(), small.end());
+        args.insert(args.end(), extra.begin(), extra.end());
+        const ToolRun r = convert(args);
+        EXPECT_EQ(r.status, 0) << describe(r);
+        return r;
+    };
+    const ToolRun d = run("default", {}), p = run("paper", {"--preset", "paper"}), n = run("none", {"--detail", "none"});
+    EXPECT_TRUE(contains(d.out, "detail      32x12x32")) << d.out;
+    EXPECT_TRUE(contains(d.out, "horizon     G closed")) << d.out;
+    EXPECT_FALSE(contains(p.out, "detail ")) << p.out;
+    EXPECT_FALSE(contains(n.out, "detail ")) << n.out;
+    const ToolRun di = npf::testing::run_tool({"info", dir + "/default.exr"});
+    const ToolRun pi = npf::testing::run_tool({"info", dir + "/paper.exr"});
+    EXPECT_TRUE(contains(di.out, "detail grid: 32 x 12 x 32")) << di.out;
+    EXPECT_TRUE(contains(di.out, "horizon_closed: 1 columns")) << di.out;
+    EXPECT_FALSE(contains(pi.out, "detail grid")) << pi.out;
+    EXPECT_TRUE(contains(pi.out, "horizon_closed: no")) << pi.out;
+    const ToolRun bad = convert({recipe("red_plastic"), "-o", dir + "/bad.exr", "--detail", "32,0,32"});
+    EXPECT_EQ(bad.status, 1);
+    EXPECT_TRUE(contains(bad.err, "--detail")) << bad.err;
+}
+
 TEST(CliConvert, ErrorsNameTheProblemAndLeaveNoFile) {
     const std::string dir = npf::testing::temporary_folder("convert");
     struct Case {

@@ -11,6 +11,12 @@
 #include <npf/converter/fit/rusinkiewicz.h>
 #include <npf/converter/fit/spectral_compression.h>
 #include <npf/converter/npf_texture_writer.h>
+#include <npf/edit/albedo_limit.h>
+#include <npf/edit/colour_edits.h>
+#include <npf/edit/compression.h>
+#include <npf/edit/ndf_transform.h>
+#include <npf/edit/recipe.h>
+#include <npf/edit/thin_film.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
 #include <npf/shading/detail_grid.h>
@@ -368,6 +374,76 @@ TEST(DetailFit, RejectsBadOptions) {
     o.display_power = 0.4;
     o.energy_views_deg = {90.0};
     EXPECT_THROW(npf::fit_detail_layer(source, m, o), npf::Error);
+}
+
+// ---- Edits on detailed files (docs/editing.md, "Edits and the detail layer") -----------------
+
+bool same_detail(const NpfModel& a, const NpfModel& b) {
+    return a.detail_grid == b.detail_grid && a.detail.rank == b.detail.rank && a.detail.basis == b.detail.basis &&
+           a.detail.weights == b.detail.weights;
+}
+
+bool warned_of_drop(const npf::edit::EditRecord& r) {
+    for (const std::string& w : r.warnings) {
+        if (w.find("detail layer was dropped") != std::string::npos) return true;
+    }
+    return false;
+}
+
+TEST(DetailEdits, EachKindKeepsOrDropsTheDetailAsDocumented) {
+    NpfModel m = npf::compress_factors(
+        npf::testing::make_microfacet_factors({0.15, 0.3, 0.1, 0.5, 3, false, 16, 24, 16, 16, 12}), {});
+    add_detail(m, {6, 4, 8});
+    namespace ed = npf::edit;
+    struct Case {
+        const char* name;
+        std::function<NpfModel(ed::EditRecord*)> edit;
+        bool kept;
+    };
+    const NpfModel other = npf::compress_factors(
+        npf::testing::make_microfacet_factors({0.3, 0.3, 0.2, 0.8, 3, false, 16, 1, 16, 16, 1}), {});
+    ed::ThinFilm film;
+    film.thickness_nm = 350.0;
+    ed::Mat3 mirror;
+    mirror(1, 1) = -1.0;
+    ed::AlbedoLimit cap;
+    cap.cap = 0.5;
+    const std::vector<Case> cases = {
+        {"rotation about the normal", [&](ed::EditRecord* r) { return ed::transform_ndf(m, ed::rotation_matrix(30.0), {}, r); }, true},
+        {"stretch", [&](ed::EditRecord* r) { return ed::transform_ndf(m, ed::stretch_matrix(1.5, 1.0), {}, r); }, false},
+        {"roughness", [&](ed::EditRecord* r) { return ed::transform_ndf(m, ed::roughness_matrix(0.7), {}, r); }, false},
+        {"mirror", [&](ed::EditRecord* r) { return ed::transform_ndf(m, mirror, {}, r); }, false},
+        {"re-compression", [&](ed::EditRecord* r) { return ed::compress_model(m, npf::CompressionOptions{0.9, 0.9, 0, 0}, r); }, true},
+        {"diffuse colour", [&](ed::EditRecord* r) { return ed::replace_diffuse_albedo(m, npf::color::Rgb{0.5, 0.1, 0.1}, r); }, true},
+        {"diffuse from another", [&](ed::EditRecord* r) { return ed::replace_diffuse(m, other, 1.0, r); }, true},
+        {"specular from another", [&](ed::EditRecord* r) { return ed::replace_specular(m, other, {}, r); }, false},
+        {"thin film", [&](ed::EditRecord* r) { return ed::apply_thin_film(m, film, r); }, false},
+        {"albedo cap", [&](ed::EditRecord* r) { return ed::limit_albedo(m, cap, r); }, true},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        ed::EditRecord record;
+        const NpfModel out = c.edit(&record);
+        if (c.kept) {
+            EXPECT_TRUE(same_detail(out, m));
+            EXPECT_FALSE(warned_of_drop(record));
+        } else {
+            EXPECT_FALSE(out.has_detail());
+            EXPECT_TRUE(warned_of_drop(record)) << "a dropped layer is said in the record";
+        }
+    }
+}
+
+// The shipped identity recipe (every step an identity) leaves a detailed file bit for bit.
+TEST(DetailEdits, IdentityRecipeIsBitExact) {
+    NpfModel m = test_model(false, 3, false);
+    add_detail(m, {6, 4, 8});
+    const npf::edit::EditRecipe recipe = npf::edit::load_edit_recipe(std::string(NPF_SOURCE_DIR) + "/configs/edits/identity.yaml");
+    const npf::edit::EditResult r = npf::edit::apply_edits(m, recipe.steps, recipe.options);
+    EXPECT_TRUE(same_detail(r.model, m));
+    EXPECT_EQ(r.model.D.basis, m.D.basis);
+    EXPECT_EQ(r.model.G.basis, m.G.basis);
+    EXPECT_EQ(r.model.F, m.F);
 }
 
 // ---- G's horizon rule ----------------------------------------------------------------------

@@ -83,7 +83,7 @@ void one_of(const std::string& origin, const std::string& key, const std::string
 // read it; errors call it `key` (the name as written: "defaults.preset").
 void check_value(const std::string& origin, const std::string& key, const std::string& setting, const std::string& v) {
     const std::string& k = setting;
-    if (k == "preset") one_of(origin, key, v, {"preview", "production", "paper"});
+    if (k == "preset") one_of(origin, key, v, {"preview", "production", "fine", "paper"});
     else if (k == "wavelengths") {
         if (v != "rgb") {
             try {

@@ -54,14 +54,16 @@ Channels choose_channels(const Brdf& source, const ConvertSettings& s) {
 ConvertPreset parse_convert_preset(const std::string& name, const std::string& what) {
     if (name == "preview") return ConvertPreset::Preview;
     if (name == "production") return ConvertPreset::Production;
+    if (name == "fine") return ConvertPreset::Fine;
     if (name == "paper") return ConvertPreset::Paper;
-    throw Error(what, "'" + name + "' is not a preset (preview, production or paper)");
+    throw Error(what, "'" + name + "' is not a preset (preview, production, fine or paper)");
 }
 
 const char* convert_preset_name(ConvertPreset p) {
     switch (p) {
     case ConvertPreset::Preview: return "preview";
     case ConvertPreset::Production: return "production";
+    case ConvertPreset::Fine: return "fine";
     case ConvertPreset::Paper: return "paper";
     }
     return "?";
@@ -84,6 +86,7 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
         s.error_pairs = 5000;
         break;
     case ConvertPreset::Production:
+    case ConvertPreset::Fine:
     case ConvertPreset::Paper: {  // the paper's grid; paper samples more finely and fits longer
         o.grid = isotropic ? RusinkiewiczGrid{90, 1, 90, 180} : RusinkiewiczGrid{90, 180, 90, 180};
         o.g_theta = 90;
@@ -92,8 +95,9 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
         o.phi_d_samples = isotropic ? 0 : (paper ? 16 : 8);
         o.max_iterations = paper ? 500 : 200;
         o.tolerance = paper ? 1e-6 : 1e-5;
+        // The accuracy ladder (docs/fitting.md, "Detail layer"): the same base, a finer residual.
         if (!paper) {
-            s.detail.grid = DetailGrid{32, 12, 32};
+            s.detail.grid = preset == ConvertPreset::Fine ? DetailGrid{40, 20, 40} : DetailGrid{32, 12, 32};
             s.close_horizon = true;
         }
         break;

@@ -204,6 +204,7 @@ NpfModel replace_specular(const NpfModel& model, const NpfModel& from, const Spe
                           colour_text(model.channels, k0_after) + "; D and G unchanged";
         merge_unique(record, notes);
     }
+    detail::drop_detail(out, record, "the specular colour changed, and the residual was fitted to the old one");
     out.validate("specular edit");
     return out;
 }

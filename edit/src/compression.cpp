@@ -18,6 +18,9 @@ NpfModel compress_model(const NpfModel& model, const CompressionOptions& options
     o.g_rank = std::min(o.g_rank, model.G.rank);
     NpfModel out = compress_factors(f, o);
     out.metadata = model.metadata;
+    // Re-compressing D and G leaves the residual's meaning as it was: it is kept as it is.
+    out.detail_grid = model.detail_grid;
+    out.detail = model.detail;
     if (record) {
         record->summary = "re-compressed D rank " + std::to_string(model.D.rank) + " -> " + std::to_string(out.D.rank) +
                           " (kept ratio " + detail::num(out.D.kept_ratio, 6) + "), G rank " +

@@ -55,6 +55,16 @@ Dir times(const Mat3& a, const Dir& v) {
 
 bool tangent_plane(const Mat3& m) { return m(0, 2) == 0.0 && m(1, 2) == 0.0 && m(2, 0) == 0.0 && m(2, 1) == 0.0; }
 
+// A rotation about the normal (m normalised to m(2, 2) = 1): theta_h, theta_d and phi_d of every
+// pair are unchanged by it, so the detail layer, which depends on those alone, stays valid. A
+// scaled rotation changes theta_h, and a reflection turns phi_d into -phi_d.
+bool rotation_about_normal(const Mat3& m) {
+    if (!tangent_plane(m)) return false;
+    const double a = m(0, 0), b = m(0, 1), c = m(1, 0), d = m(1, 1);
+    const double n1 = a * a + c * c, n2 = b * b + d * d, cross = a * b + c * d;
+    return std::fabs(n1 - 1.0) <= 1e-9 && std::fabs(n2 - 1.0) <= 1e-9 && std::fabs(cross) <= 1e-9 && a * d - b * c > 0.0;
+}
+
 using table::Bilinear;
 using table::bilinear;
 
@@ -264,6 +274,14 @@ NpfModel transform_ndf(const NpfModel& in, const Mat3& given, const NdfTransform
     }
 
     NpfModel out = detail::recompress(base, d2, d_phi, g2, g_phi, in, options.recompress);
+    if (in.has_detail()) {
+        // Kept where the transform leaves its coordinates alone; a reshaped lobe drops it.
+        out.detail_grid = in.detail_grid;
+        out.detail = in.detail;
+        if (!rotation_about_normal(m)) {
+            detail::drop_detail(out, record, "the transform reshapes the lobe the residual was fitted to");
+        }
+    }
     out.validate(kSource);
     if (record) {
         record->summary = label + (tangent ? "" : " (tilting)") + ": D " + std::to_string(out.d_theta) + " x " +

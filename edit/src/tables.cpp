@@ -61,6 +61,13 @@ NpfModel recompress(const NpfModel& model, const Tables& d, int d_phi, const Tab
     return out;
 }
 
+void drop_detail(NpfModel& model, EditRecord* record, const std::string& why) {
+    if (!model.has_detail()) return;
+    model.detail_grid = DetailGrid{};
+    model.detail = SpectralBasis{};
+    warn(record, "the detail layer was dropped: " + why + " (convert the measurement again for a detail layer)");
+}
+
 std::vector<double> projected_areas(const Tables& d, int d_theta, int d_phi) {
     std::vector<double> cell(std::size_t(d_theta) * std::size_t(d_phi));
     const double du = 1.0 / d_theta, dphi = 2.0 * kPiD / d_phi;

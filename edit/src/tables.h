@@ -46,6 +46,11 @@ std::vector<double> projected_areas(const Tables& d, int d_theta, int d_phi);
 std::vector<double> convert_channels(const Channels& from, const std::vector<double>& values, const Channels& to,
                                      const std::string& what, EditRecord* record);
 
+// The detail layer (docs/editing.md, "Edits and the detail layer") was fitted to the input's own
+// lobe; an edit that reshapes the lobe or its Fresnel removes it, with a warning naming why.
+// Nothing happens when the model has none.
+void drop_detail(NpfModel& model, EditRecord* record, const std::string& why);
+
 // "1.234" with up to `digits` significant digits.
 std::string num(double v, int digits = 6);
 

@@ -293,6 +293,7 @@ NpfModel apply_thin_film(const NpfModel& model, const ThinFilm& film, EditRecord
             }
         }
     }
+    if (out.F != model.F) detail::drop_detail(out, record, "the film changes F, and the residual was fitted under the old one");
     return out;
 }
 

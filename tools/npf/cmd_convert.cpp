@@ -18,7 +18,7 @@ namespace {
 
 const std::vector<FlagSpec> kFlags = {
     {"-o", true, "output factor texture (.exr), required"},
-    {"--preset", true, "preview, production (default) or paper (docs/fitting.md)"},
+    {"--preset", true, "preview, production (default), fine or paper (the paper's pure model; docs/fitting.md)"},
     {"--wavelengths", true, "channels to fit: rgb, start:end:count or a,b,c nm (default: the source's)"},
     {"--max-wavelengths", true, "keep at most this many of the source's wavelengths, evenly spread"},
     {"--isotropy", true, "auto (default: as the source), isotropic or anisotropic"},
@@ -87,7 +87,7 @@ std::string megabytes(std::uint64_t bytes) {
 int run_convert(const std::vector<std::string>& args) {
     CommandLine cl("convert", args, kFlags);
     if (cl.has("--help") || cl.positional().size() != 1 || !cl.has("-o")) {
-        std::printf("usage: npf convert IN -o OUT.exr [--preset preview|production|paper] [settings]\n\n"
+        std::printf("usage: npf convert IN -o OUT.exr [--preset preview|production|fine|paper] [settings]\n\n"
                     "Fits the NPF factors (paper Eq. 1) to a material: an RGL .bsdf or MERL .binary file, or an\n"
                     "analytic recipe (.yaml, configs/materials/); compresses D and G across wavelengths; writes\n"
                     "the factor texture. Settings override the preset. Example:\n"

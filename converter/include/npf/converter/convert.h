@@ -15,9 +15,12 @@
 
 namespace npf {
 
-enum class ConvertPreset { Preview, Production, Paper };
+// The accuracy ladder: preview, production (the default) and fine carry a detail layer of
+// growing resolution over the same NPF base; paper is the paper's pure model (no detail layer,
+// G as fitted at the horizon), kept reproducible.
+enum class ConvertPreset { Preview, Production, Fine, Paper };
 
-// "preview", "production" or "paper"; throws npf::Error naming `what` otherwise.
+// "preview", "production", "fine" or "paper"; throws npf::Error naming `what` otherwise.
 ConvertPreset parse_convert_preset(const std::string& name, const std::string& what);
 const char* convert_preset_name(ConvertPreset preset);
 
