@@ -119,7 +119,7 @@ TEST(BatchConfig, ErrorsNameTheLineAndTheKey) {
         std::string yaml, expected;
     };
     const Case cases[] = {
-        {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  preset: fast\n", "cfg.yaml:4: key 'defaults.preset': 'fast' is not one of preview, production, paper"},
+        {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  preset: fast\n", "cfg.yaml:4: key 'defaults.preset': 'fast' is not one of preview, production, fine, paper"},
         {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  presett: preview\n", "cfg.yaml:4: key 'defaults.presett': unknown key"},
         {"output_dir: out\ninputs: a.bsdf\nbogus: 1\n", "cfg.yaml:3: key 'bogus': unknown key"},
         {"inputs: a.bsdf\n", "cfg.yaml: key 'output_dir' is required"},

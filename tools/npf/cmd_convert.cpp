@@ -232,6 +232,11 @@ int run_convert(const std::vector<std::string>& args) {
         std::printf("  horizon     G closed at the horizon in %d of %d columns (no light gained at grazing views)\n",
                     r.horizon_columns_closed, r.isotropic ? 1 : o.g_phi);
     }
+    if (r.detail_not_kept) {
+        std::printf("  detail      fitted but not kept: BRDF-space relative RMS %.3f %% with it, %.3f %% without (its\n"
+                    "              residual has no phi_h axis; on anisotropic materials the average over phi_h can miss)\n",
+                    100.0 * r.detailed_error.mean_relative_rms, 100.0 * r.compressed_error.mean_relative_rms);
+    }
     if (r.has_detail) {
         const DetailGrid& dg = s.detail.grid;
         std::printf("  detail      %dx%dx%d (u_h, theta_d, phi_d), rank %d; weighted error %.4g -> %.4g; albedo error at "

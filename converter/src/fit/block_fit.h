@@ -45,7 +45,7 @@ private:
     void update_f(BlockFactors<L>& f);
     void update_g(BlockFactors<L>& f);
     // Solves (rho_d, rho_s) jointly and returns the weighted squared error per lane.
-    std::array<double, L> update_diffuse_specular(BlockFactors<L>& f);
+    std::array<double, L> update_diffuse_specular(BlockFactors<L>& f, bool solve = true);
     void normalise(BlockFactors<L>& f) const;
     // G = Smith's masking of the current D, G1(w) = cos(theta) / sigma(w) with sigma the
     // projected area of D seen from w (so the table, G / cos, is 1 / sigma).

@@ -275,7 +275,7 @@ void BlockFit<L>::update_g(BlockFactors<L>& f) {
 // two-parameter weighted least-squares problem solved in closed form (with the non-negativity
 // constraints), whose sums also give the error.
 template <int L>
-std::array<double, L> BlockFit<L>::update_diffuse_specular(BlockFactors<L>& f) {
+std::array<double, L> BlockFit<L>::update_diffuse_specular(BlockFactors<L>& f, bool solve) {
     std::vector<std::array<double, 3 * L>> sums(static_cast<std::size_t>(kSlices));
     for_each_slice([&](int t) {
         std::array<double, 3 * L>& out = sums[std::size_t(t)];
@@ -310,6 +310,12 @@ std::array<double, L> BlockFit<L>::update_diffuse_specular(BlockFactors<L>& f) {
         for (const auto& s : sums) swm += s[l], swmm += s[L + l], swrm += s[2 * L + l];
         const double sw = m_sw[l], swr = m_swr[l];
         double rd = 0.0, rs = 0.0;
+        if (!solve) {
+            rd = f.rho_d[std::size_t(l)], rs = f.rho_s[std::size_t(l)];
+            const double e = m_swrr[l] - 2.0 * rd * swr - 2.0 * rs * swrm + rd * rd * sw + 2.0 * rd * rs * swm + rs * rs * swmm;
+            error[std::size_t(l)] = std::max(0.0, e);
+            continue;
+        }
         const double det = sw * swmm - swm * swm;
         if (det > 1e-12 * sw * swmm) {
             rd = (swr * swmm - swm * swrm) / det;
@@ -447,10 +453,21 @@ int BlockFit<L>::run(BlockFactors<L>& f, bool cold, std::array<double, L>& error
             smith_g_from_d(f);
             update_d_and_diffuse(f);
         }
+        std::array<double, L> e_d{}, e_f{}, e_g{};
+        const bool sub = m_trace && std::getenv("NPF_AWLS_TRACE_SUB");
+        if (sub) e_d = update_diffuse_specular(f, false);
         update_f(f);
+        if (sub) e_f = update_diffuse_specular(f, false);
         update_g(f);
+        if (sub) e_g = update_diffuse_specular(f, false);
         e = update_diffuse_specular(f);
+        if (sub) {
+            const int l = std::atoi(std::getenv("NPF_AWLS_TRACE_SUB"));
+            std::fprintf(stderr, "sub %4d  start %.9e  D %+.2e  F %+.2e  G %+.2e  rho %+.2e\n", it + 1, history.empty() ? 0.0 : history.back()[l] / m_swrr[l],
+                         history.empty() ? 0.0 : (e_d[l] - history.back()[l]) / history.back()[l], (e_f[l] - e_d[l]) / e_d[l], (e_g[l] - e_f[l]) / e_f[l], (e[l] - e_g[l]) / e_g[l]);
+        }
         normalise(f);
+        const std::array<double, L> e_plain = e;
         ++it;
         if (m_o.extrapolate && it > 1) {
             trial = f;
@@ -476,7 +493,42 @@ int BlockFit<L>::run(BlockFactors<L>& f, bool cold, std::array<double, L>& error
             }
         }
         progress(it);
-        if (m_trace) std::fprintf(stderr, "awls %4d  %.6e  rho_d %.5f rho_s %.5f step %.2f\n", it, std::sqrt(e[0] / m_swrr[0]), f.rho_d[0], f.rho_s[0], step[0]);
+        if (m_trace && it > 1 && std::getenv("NPF_AWLS_TRACE_MOVE")) {
+            const int l = std::atoi(std::getenv("NPF_AWLS_TRACE_MOVE"));
+            auto mv = [&](const std::vector<float>& a, const std::vector<float>& b, std::size_t& arg, double& rel) {
+                double n = 0, d = 0, mx = -1;
+                for (std::size_t k = std::size_t(l); k < a.size(); k += L) {
+                    const double x = double(a[k]) - double(b[k]);
+                    n += x * x, d += double(b[k]) * b[k];
+                    if (std::abs(x) > mx) mx = std::abs(x), arg = k / L;
+                }
+                rel = std::sqrt(n / d);
+                return mx;
+            };
+            std::size_t ad = 0, af = 0, ag = 0;
+            double rd = 0, rf = 0, rg = 0;
+            const double md = mv(f.D, before.D, ad, rd), mf = mv(f.F, before.F, af, rf), mg = mv(f.G, before.G, ag, rg);
+            if (it % 25 == 0) {
+                std::fprintf(stderr, "F %4d:", it);
+                for (std::size_t k = 0; k < m_s.f_cells; ++k) std::fprintf(stderr, " %.4f", f.F[k * L + std::size_t(l)]);
+                std::fprintf(stderr, "\nGcol0 %4d:", it);
+                for (int r = 0; r < m_o.g_theta; ++r) std::fprintf(stderr, " %.4f", f.G[std::size_t(r * m_o.g_phi) * L + std::size_t(l)]);
+                std::fprintf(stderr, "\nGcolq %4d:", it);
+                for (int r = 0; r < m_o.g_theta; ++r) std::fprintf(stderr, " %.4f", f.G[std::size_t(r * m_o.g_phi + m_o.g_phi / 4) * L + std::size_t(l)]);
+                std::fprintf(stderr, "\n");
+            }
+            std::fprintf(stderr, "move %4d D %.3e (max %.3e at %zu) F %.3e (max %.3e at %zu) G %.3e (max %.3e at row %zu col %zu) rho_d %.6e rho_s %.6e\n", it, rd, md, ad, rf, mf, af, rg, mg,
+                         ag / std::size_t(m_o.g_phi), ag % std::size_t(m_o.g_phi), f.rho_d[std::size_t(l)], f.rho_s[std::size_t(l)]);
+        }
+        if (m_trace) {
+            std::fprintf(stderr, "awls %4d", it);
+            for (int l = 0; l < L; ++l) std::fprintf(stderr, " %.9e", m_swrr[l] > 0.0 ? e[std::size_t(l)] / m_swrr[l] : 0.0);
+            std::fprintf(stderr, " |");
+            for (int l = 0; l < L; ++l) std::fprintf(stderr, " %.9e", m_swrr[l] > 0.0 ? e_plain[std::size_t(l)] / m_swrr[l] : 0.0);
+            std::fprintf(stderr, " |");
+            for (int l = 0; l < L; ++l) std::fprintf(stderr, " %.2f", step[std::size_t(l)]);
+            std::fprintf(stderr, "\n");
+        }
         // Converged when the last kWindow sweeps together lowered the error by less than
         // kWindow x tolerance, relative: a single sweep's gain is a poor guide, as alternation
         // can crawl for many sweeps at a rate near the tolerance while far from the optimum.

@@ -37,6 +37,9 @@ struct ConvertSettings {
     // Close G at the horizon (NpfModel::close_g_at_horizon) before the detail fit, so that no
     // conversion gains light at grazing views; off in the paper preset (its pure model).
     bool close_horizon = false;
+    // Keep the detail layer only when it lowers the BRDF-space error (error_pairs > 0), the
+    // measurement independent of its fit.
+    bool detail_only_if_better = true;
     // RGB factors are stored losslessly unless this is set: three channels gain little from the
     // SVD, and what little they gain costs visible colour error (docs/fitting.md).
     bool compress_rgb = false;
@@ -67,6 +70,7 @@ struct ConvertReport {
     BrdfSpaceError detailed_error;    // what the file holds, with its detail layer (when it has one)
     int horizon_columns_closed = 0;
     bool has_detail = false;
+    bool detail_not_kept = false;  // fitted, but it did not lower the BRDF-space error
     int detail_rank = 0;
     DetailReport detail;
     std::uint64_t input_bytes = 0, output_bytes = 0;

@@ -40,7 +40,7 @@ struct DetailOptions {
     double energy_weight = 1e4;     // 0 disables the energy term
     std::vector<double> energy_views_deg = {0, 10, 20, 30, 40, 50, 60, 65, 70, 75, 80};
     double smoothness = 1e-4;       // relative to the mean diagonal of the data term
-    double ratio = 1.0;             // cumulative contribution ratio kept across channels
+    double ratio = 0.99999;         // cumulative contribution ratio kept across channels
     int rank = 0;                   // > 0 fixes the rank across channels
     bool half_precision = true;     // round the basis to half (stored losslessly as HALF)
     int max_iterations = 2000;      // of conjugate gradients, per channel
