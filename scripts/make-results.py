@@ -79,13 +79,33 @@ class Runner:
         return None if name in REAL else self.args.render_wavelengths
 
     def render(self, material, tag, name, spp=None, seed=1):
-        out = self.path("%s.%s.exr" % (name, tag))
-        cmd = [self.npf, "render", material, "-o", out, "--png", out[:-4] + ".png", "--size",
-               str(self.args.size), "--spp", str(spp or self.args.spp), "--seed", str(seed), "--quiet"]
+        # Environment sampling alone: a material and its reference rendered at the same seed are
+        # then estimated at the same light directions, and their difference is nearly free of
+        # noise (the paired noise floor, docs/metrics.md). "env" in the name keeps a work folder
+        # of earlier (MIS) runs from being reused.
+        out = self.path("%s.%s.env%s.exr" % (name, tag, "" if seed == 1 else ".seed%d" % seed))
+        cmd = [self.npf, "render", material, "-o", out, "--size", str(self.args.size), "--spp",
+               str(spp or self.args.spp), "--seed", str(seed), "--sampling", "env", "--quiet"]
         if self.wavelengths(name):
             cmd += ["--wavelengths", self.wavelengths(name)]
         self.timed("render:" + out, out, cmd)
         return out
+
+    def picture(self, material, tag, name):
+        """A MIS render for the side-by-side figures: environment sampling alone, which the
+        comparisons use, leaves bright speckles around glossy highlights (they cancel in a
+        comparison at the same seed, not in a picture)."""
+        out = self.path("%s.%s.mis.exr" % (name, tag))
+        cmd = [self.npf, "render", material, "-o", out, "--png", out[:-4] + ".png", "--size", str(self.args.size),
+               "--spp", str(self.args.spp), "--seed", "1", "--quiet"]
+        if self.wavelengths(name):
+            cmd += ["--wavelengths", self.wavelengths(name)]
+        self.timed("render:" + out, out, cmd)
+        return out[:-4] + ".png"
+
+    def render_pair(self, material, tag, name, spp=None):
+        """The material rendered at seeds 1 and 2: what compare_pair needs for the noise floor."""
+        return (self.render(material, tag, name, spp, seed=1), self.render(material, tag, name, spp, seed=2))
 
     def convert(self, name, tag, extra):
         out = self.path("%s.%s.npf.exr" % (name, tag))
@@ -95,15 +115,22 @@ class Runner:
         seconds = self.timed("convert:" + out, out, cmd)
         return out, seconds
 
-    def compare(self, ref, test, heatmap=None):
+    def compare(self, ref, test, heatmap=None, floor=()):
         cmd = [self.npf, "compare", ref, test, "--json"]
         if heatmap:
             cmd += ["--heatmap", heatmap]
+        if floor:
+            cmd += ["--floor"] + list(floor)
         m = json.loads(self.run(cmd, capture=True))
-        for k in ("PSNR", "SSIM", "relMSE", "MAPE"):
-            v = m[k]
-            m[k] = math.inf if v in ("inf", "Infinity") else float(v)
+        for k in ("PSNR", "SSIM", "relMSE", "MAPE", "noise_floor_db"):
+            if k in m:
+                v = m[k]
+                m[k] = math.inf if v in ("inf", "Infinity") else float(v)
         return m
+
+    def compare_pair(self, ref_pair, test_pair, heatmap=None):
+        """Seed 1's metrics and the paired noise floor from seed 2 (npf compare --floor)."""
+        return self.compare(ref_pair[0], test_pair[0], heatmap, floor=(ref_pair[1], test_pair[1]))
 
     def bench(self, material):
         out = json.loads(self.run([self.npf, "bench", material, "--json", "--seconds", "0.5", "--threads", "1"],
@@ -115,8 +142,19 @@ def fmt_psnr(v):
     return "inf" if math.isinf(v) else "%.2f" % v
 
 
+def fmt_psnr_judged(m):
+    """The PSNR, starred when it is within 3 dB of its noise floor (it then measures noise)."""
+    return fmt_psnr(m["PSNR"]) + (" *" if m.get("noise_limited") else "")
+
+
 def metrics_cells(m):
-    return ["%.2f %%" % (100 * m["MAPE"]), "%.5f" % m["relMSE"], fmt_psnr(m["PSNR"]), "%.4f" % m["SSIM"]]
+    return ["%.2f %%" % (100 * m["MAPE"]), "%.5f" % m["relMSE"], fmt_psnr_judged(m), fmt_psnr(m["noise_floor_db"]),
+            "%.4f" % m["SSIM"]]
+
+
+FLOOR_NOTE = ("Floor: the PSNR's paired noise floor ([metrics.md](metrics.md), `npf compare --floor`), from the same "
+              "two materials rendered again at seed 2; a PSNR within 3 dB of it (starred) measures Monte Carlo "
+              "noise, not the fit.")
 
 
 def file_mb(path):
@@ -223,14 +261,14 @@ def main():
     log("Table 1")
     t1 = []
     for name in REAL + SYNTHETIC:
-        ref = r.render(r.source(name), "reference", name)
+        ref = r.render_pair(r.source(name), "reference", name)
         row = {"name": name}
         for tag, extra in (("ours", ["--preset", "production"]),
                            ("bagher", ["--preset", "production", "--volume-weight", "three-angle"])):
             fitted, seconds = r.convert(name, tag, extra)
-            img = r.render(fitted, tag, name)
+            img = r.render_pair(fitted, tag, name)
             heat = r.path("%s.%s.heat.png" % (name, tag))
-            row[tag] = r.compare(ref, img, heat)
+            row[tag] = r.compare_pair(ref, img, heat)
             row[tag + "_fit_s"] = seconds
             row[tag + "_mb"] = file_mb(fitted)
         t1.append(row)
@@ -244,40 +282,24 @@ def main():
                      ",".join(str(t) for t in albedo_thetas), "--json"], capture=True)
         rows = json.loads(out)["rows"]
         energy[name] = [sum(row[-1]) / len(row[-1]) for row in rows]
-    # Noise floor: the reference rendered again with the same seed (must be identical) and with
-    # another seed (the Monte Carlo noise left in a comparison).
-    noise = {}
-    for name in (REAL + SYNTHETIC)[:2]:
-        ref = r.path("%s.reference.exr" % name)
-        for key, seed, out in ((name, "2", r.path("%s.reference-seed2.exr" % name)),
-                               (name + ":same", "1", r.path("%s.reference-again.exr" % name))):
-            cmd = [args.npf, "render", r.source(name), "-o", out, "--size", str(args.size), "--spp",
-                   str(args.spp), "--seed", seed, "--quiet"]
-            if r.wavelengths(name):
-                cmd += ["--wavelengths", r.wavelengths(name)]
-            r.timed("render:" + out, out, cmd)
-            noise[key] = r.compare(ref, out)
 
     # Convergence: Table 1's real comparisons again with `converge` times the samples. If the PSNR
-    # barely moves, the fit's error, not Monte Carlo noise, is what Table 1 measures; the seed-2
-    # reference at that count gives the noise left there.
+    # barely moves, the fit's error, not Monte Carlo noise, is what Table 1 measures: a check of
+    # the floors.
     log("Convergence")
     converged = {}
     high_spp = args.spp * args.converge
     for name in REAL:
-        ref_hi = r.render(r.source(name), "reference-%dspp" % high_spp, name, spp=high_spp)
-        ref_hi2 = r.render(r.source(name), "reference-%dspp-seed2" % high_spp, name, spp=high_spp, seed=2)
-        ours_hi = r.render(r.path("%s.ours.npf.exr" % name), "ours-%dspp" % high_spp, name, spp=high_spp)
-        converged[name] = {"ours": r.compare(ref_hi, ours_hi), "noise": r.compare(ref_hi, ref_hi2)}
+        ref_hi = r.render_pair(r.source(name), "reference-%dspp" % high_spp, name, spp=high_spp)
+        ours_hi = r.render_pair(r.path("%s.ours.npf.exr" % name), "ours-%dspp" % high_spp, name, spp=high_spp)
+        converged[name] = {"ours": r.compare_pair(ref_hi, ours_hi)}
 
     # Table 2: PCA ratios on a spectrally varying material.
     log("Table 2")
     # The one recipe whose D and G change with wavelength: two lobes with different Fresnel
     # (gold and silver) and so different weights per wavelength.
     pca_material = FAILURE
-    ref = r.path("%s.reference.exr" % pca_material)
-    if not os.path.exists(ref):
-        ref = r.render(r.source(pca_material), "reference", pca_material)
+    ref = r.render_pair(r.source(pca_material), "reference", pca_material)  # Table 1's, when it ran
     # One lossless fit; every ratio and rank below is a re-compression of it (`npf edit
     # --compress-pca/--compress-rank`), which equals a conversion at that ratio from the same fit.
     lossless, lossless_s = r.convert(pca_material, "pca-none", ["--preset", "production", "--pca", "1,1"])
@@ -292,15 +314,15 @@ def main():
                                                          "--compress-pca", "%g,%g" % ratios])
         info = r.run([args.npf, "info", fitted], capture=True)
         ranks = [l.split(":", 1)[1].split()[0] for l in info.splitlines() if l.strip().startswith(("D rank", "G rank"))][:2]
-        img = r.render(fitted, tag, pca_material)
+        img = r.render_pair(fitted, tag, pca_material)
         t2.append({"ratios": ratios, "mb": file_mb(fitted), "ranks": ranks, "fit_s": seconds,
-                   "m": r.compare(ref, img)})
+                   "m": r.compare_pair(ref, img)})
     uncompressed = t2[0]["mb"]
 
     # Speed/accuracy: presets and grids on a real material; evaluation time against rank.
     log("Speed and accuracy")
     trade_material = REAL[0] if args.quick else "ilm_l3_37_metallic_rgb"
-    ref = r.render(r.source(trade_material), "reference", trade_material)
+    trade_ref = r.render_pair(r.source(trade_material), "reference", trade_material)
     trade = []
     settings = [("preview", ["--preset", "preview"]), ("production", ["--preset", "production"])]
     if not args.quick:
@@ -308,17 +330,17 @@ def main():
     for label, extra in settings:
         tag = "trade-" + label.replace(", ", "-").replace(" ", "")
         fitted, seconds = r.convert(trade_material, tag, extra)
-        img = r.render(fitted, tag, trade_material)
-        trade.append({"label": label, "fit_s": seconds, "mb": file_mb(fitted), "m": r.compare(ref, img)})
+        img = r.render_pair(fitted, tag, trade_material)
+        trade.append({"label": label, "fit_s": seconds, "mb": file_mb(fitted), "m": r.compare_pair(trade_ref, img)})
     rank_rows = []
     for k in RANKS:
         fitted = r.path("%s.rank-%d.npf.exr" % (pca_material, k))
         r.timed("edit:" + fitted, fitted, [args.npf, "edit", lossless, "-o", fitted, "--no-albedo-check",
                                             "--compress-rank", "%d,%d" % (k, k)])
-        img = r.render(fitted, "rank-%d" % k, pca_material)
+        img = r.render_pair(fitted, "rank-%d" % k, pca_material)
         b = r.bench(fitted)
         rank_rows.append({"rank": k, "mb": file_mb(fitted), "eval_ns": b["eval_memory_ns"],
-                          "eval_full_ns": b["eval_memory_full_ns"], "m": r.compare(r.path("%s.reference.exr" % pca_material), img)})
+                          "eval_full_ns": b["eval_memory_full_ns"], "m": r.compare_pair(ref, img)})
     plot(os.path.join(images, "speed_accuracy.png"), [
         {"title": "fit time against render PSNR (%s)" % trade_material, "xlabel": "fit wall time (s, log)",
          "ylabel": "PSNR (dB)", "logx": True,
@@ -332,13 +354,15 @@ def main():
     shown = [n for n in ("ilm_l3_37_metallic_rgb", "brushed_copper", FAILURE) if n in REAL + SYNTHETIC]
     for name in shown:
         side_by_side(os.path.join(images, name + ".png"),
-                     [r.path("%s.reference.png" % name), r.path("%s.ours.png" % name), r.path("%s.ours.heat.png" % name)],
+                     [r.picture(r.source(name), "reference", name),
+                      r.picture(r.path("%s.ours.npf.exr" % name), "ours", name), r.path("%s.ours.heat.png" % name)],
                      ["reference", "NPF (production)", "relMSE 0..5 %"])
 
     # -- write docs/results.md
     md.append("# Results: the paper's tables on our data\n")
     md.append("Regenerated by `python3 scripts/make-results.py` (%s; renders %dx%d, %d samples per pixel, "
-              "seed 1; spectral renders at %s nm). Metrics are defined in [metrics.md](metrics.md); the "
+              "environment sampling alone (`--sampling env`), seed 1, and seed 2 for the noise floors; "
+              "spectral renders at %s nm). Metrics are defined in [metrics.md](metrics.md); the "
               "renderer in [render.md](render.md). Every number below was produced by that run on the "
               "development machine (2-core EPYC VM).\n" % (time.strftime("%Y-%m-%d"), args.size, args.size, args.spp,
                                                            args.render_wavelengths))
@@ -346,30 +370,26 @@ def main():
     md.append("Sphere scene under the default environment map. Reference: the raw RGL file (real materials) "
               "or the analytic recipe evaluated exactly (synthetic, fitted at %d wavelengths). Both fits use "
               "the production preset; only the volume weight differs.\n" % args.max_wavelengths)
-    md.append("| material | ours: MAPE | relMSE | PSNR (dB) | SSIM | Bagher: MAPE | relMSE | PSNR (dB) | SSIM | fit (s) |")
-    md.append("|---|---|---|---|---|---|---|---|---|---|")
+    md.append("| material | ours: MAPE | relMSE | PSNR (dB) | floor (dB) | SSIM | Bagher: MAPE | relMSE | PSNR (dB) "
+              "| floor (dB) | SSIM | fit (s) |")
+    md.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for row in t1:
         md.append("| %s | %s | %s | %.1f |" % (row["name"], " | ".join(metrics_cells(row["ours"])),
                                               " | ".join(metrics_cells(row["bagher"])), row["ours_fit_s"]))
     md.append("")
-    md.append("Noise floor (the reference against itself rendered again with seed 1, and with seed 2):\n")
-    for name in (REAL + SYNTHETIC)[:2]:
-        md.append("- %s: same seed PSNR %s, SSIM %.4f; seed 2 PSNR %s, SSIM %.4f" % (
-            name, fmt_psnr(noise[name + ":same"]["PSNR"]), noise[name + ":same"]["SSIM"],
-            fmt_psnr(noise[name]["PSNR"]), noise[name]["SSIM"]))
+    md.append(FLOOR_NOTE)
     md.append("\nConvergence: the real materials' comparison (ours) again at %d samples per pixel, reference and "
-              "conversion both at that count, seed 1; the noise floor there is the reference against itself "
-              "rendered with seed 2. A PSNR that moves little between the two counts is the fit's error, "
-              "not noise.\n" % high_spp)
-    md.append("| material | PSNR at %d spp | PSNR at %d spp | SSIM at %d spp | noise floor at %d spp: PSNR, SSIM |"
-              % (args.spp, high_spp, high_spp, high_spp))
-    md.append("|---|---|---|---|---|")
+              "conversion both at that count (seeds 1 and 2). A PSNR that moves little between the two counts is "
+              "the fit's error, not noise, as the floors say.\n" % high_spp)
+    md.append("| material | PSNR at %d spp | floor at %d spp | PSNR at %d spp | floor at %d spp | SSIM at %d spp |"
+              % (args.spp, args.spp, high_spp, high_spp, high_spp))
+    md.append("|---|---|---|---|---|---|")
     by_name = {row["name"]: row for row in t1}
     for name in REAL:
-        c = converged[name]
-        md.append("| %s | %s | %s | %.4f | %s, %.4f |" % (name, fmt_psnr(by_name[name]["ours"]["PSNR"]),
-                                                        fmt_psnr(c["ours"]["PSNR"]), c["ours"]["SSIM"],
-                                                        fmt_psnr(c["noise"]["PSNR"]), c["noise"]["SSIM"]))
+        c = converged[name]["ours"]
+        low = by_name[name]["ours"]
+        md.append("| %s | %s | %s | %s | %s | %.4f |" % (name, fmt_psnr_judged(low), fmt_psnr(low["noise_floor_db"]),
+                                                       fmt_psnr_judged(c), fmt_psnr(c["noise_floor_db"]), c["SSIM"]))
     md.append("\n## Energy: directional albedo against the raw file\n")
     md.append("`npf albedo CONVERSION --against RAW` ([albedo.md](albedo.md)) for the production conversions of "
               "Table 1 (ours): the relative difference of the directional albedo, mean over R, G and B, at each "
@@ -381,28 +401,33 @@ def main():
     md.append("\n## Table 2: spectral compression (%s)\n" % pca_material)
     md.append("One production fit stored losslessly; each ratio is a re-compression of it (`npf edit --compress-pca`), "
               "the same as converting at that ratio from the same fit. Time: the fit, or the re-compression.\n")
-    md.append("| PCA D / G | ranks D / G | size (MB) | ratio to uncompressed | PSNR (dB) | SSIM | time (s) |")
-    md.append("|---|---|---|---|---|---|---|")
+    md.append("| PCA D / G | ranks D / G | size (MB) | ratio to uncompressed | PSNR (dB) | floor (dB) | SSIM | time (s) |")
+    md.append("|---|---|---|---|---|---|---|---|")
     for q in t2:
         label = "none" if q["ratios"] is None else "%g / %g" % (100 * q["ratios"][0], 100 * q["ratios"][1])
-        md.append("| %s | %s | %.3f | %.1f %% | %s | %.4f | %.1f |" % (label, " / ".join(q["ranks"]), q["mb"],
-                                                                   100 * q["mb"] / uncompressed, fmt_psnr(q["m"]["PSNR"]),
-                                                                   q["m"]["SSIM"], q["fit_s"]))
+        md.append("| %s | %s | %.3f | %.1f %% | %s | %s | %.4f | %.1f |" % (
+            label, " / ".join(q["ranks"]), q["mb"], 100 * q["mb"] / uncompressed, fmt_psnr_judged(q["m"]),
+            fmt_psnr(q["m"]["noise_floor_db"]), q["m"]["SSIM"], q["fit_s"]))
+    md.append("\n" + FLOOR_NOTE)
     md.append("\n## Speed against accuracy\n")
     md.append("![speed and accuracy](%s/speed_accuracy.png)\n" % image_folder)
     md.append("Fit settings on %s (render PSNR against the raw file):\n" % trade_material)
-    md.append("| settings | fit wall time (s) | size (MB) | PSNR (dB) | SSIM |")
-    md.append("|---|---|---|---|---|")
+    md.append("| settings | fit wall time (s) | size (MB) | PSNR (dB) | floor (dB) | SSIM |")
+    md.append("|---|---|---|---|---|---|")
     for t in trade:
-        md.append("| %s | %.1f | %.3f | %s | %.4f |" % (t["label"], t["fit_s"], t["mb"], fmt_psnr(t["m"]["PSNR"]), t["m"]["SSIM"]))
+        md.append("| %s | %.1f | %.3f | %s | %s | %.4f |" % (t["label"], t["fit_s"], t["mb"], fmt_psnr_judged(t["m"]),
+                                                          fmt_psnr(t["m"]["noise_floor_db"]), t["m"]["SSIM"]))
     md.append("\nEvaluation time against SVD rank on %s (`npf bench`, one thread, in-memory path):\n" % pca_material)
-    md.append("| rank D, G | size (MB) | eval, 4 hero wavelengths (ns) | eval, every stored channel (ns) | PSNR (dB) |")
-    md.append("|---|---|---|---|---|")
+    md.append("| rank D, G | size (MB) | eval, 4 hero wavelengths (ns) | eval, every stored channel (ns) | PSNR (dB) "
+              "| floor (dB) |")
+    md.append("|---|---|---|---|---|---|")
     for q in rank_rows:
-        md.append("| %d | %.3f | %.0f | %.0f | %s |" % (q["rank"], q["mb"], q["eval_ns"], q["eval_full_ns"], fmt_psnr(q["m"]["PSNR"])))
+        md.append("| %d | %.3f | %.0f | %.0f | %s | %s |" % (q["rank"], q["mb"], q["eval_ns"], q["eval_full_ns"],
+                                                         fmt_psnr_judged(q["m"]), fmt_psnr(q["m"]["noise_floor_db"])))
     md.append("\n## Side by side\n")
     for name in shown:
-        md.append("**%s**: reference, NPF, relMSE heatmap (blue 0 to red 5 %%)\n" % name)
+        md.append("**%s**: reference, NPF (pictures rendered with MIS), relMSE heatmap of Table 1's comparison "
+                  "(environment sampling, blue 0 to red 5 %%)\n" % name)
         md.append("![%s](%s/%s.png)\n" % (name, image_folder, name))
     md.append("<!-- analysis -->\n")
     out = os.path.join(args.docs, "results.md" if not args.quick else "results-quick.md")

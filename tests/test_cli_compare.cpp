@@ -194,4 +194,126 @@ TEST(CliCompare, HelpAndUsage) {
     EXPECT_TRUE(contains(bad.err, "unknown option '--psnr-peak'")) << describe(bad);
 }
 
+TEST(CliCompare, FloorKeepsTheOutputAndAddsTheNoiseFloor) {
+    const std::string dir = npf::testing::temporary_folder("cli_compare");
+    // Seed 1: 0.18 against 0.5. Seed 2: 0.18 against 0.45, so e_1 - e_2 = d(0.5) - d(0.45) and
+    // the floor is -10 log10((d(0.5) - d(0.45))^2 / 2) = 32.3944577 dB (docs/metrics.md).
+    const std::string ref = constant_exr(dir, "ref.exr", 0.18f), test = constant_exr(dir, "test.exr", 0.5f);
+    const std::string ref2 = constant_exr(dir, "ref2.exr", 0.18f), test2 = constant_exr(dir, "test2.exr", 0.45f);
+
+    const ToolRun plain = npf::testing::run_tool({"compare", ref, test});
+    const ToolRun r = npf::testing::run_tool({"compare", ref, test, "--floor", ref2, test2});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_EQ(r.err, "") << describe(r);
+    // The lines without --floor come first, unchanged.
+    ASSERT_EQ(r.out.rfind(plain.out, 0), 0u) << describe(r);
+    EXPECT_NEAR(line_value(r.out, "noise_floor_db"), 32.39445774370758, 1e-5) << describe(r);
+    EXPECT_TRUE(has_line(r.out, "noise_floor_kind paired")) << describe(r);
+    EXPECT_TRUE(has_line(r.out, "noise_limited no")) << describe(r);
+    EXPECT_TRUE(contains(r.out, "summary: PSNR 11.24 dB, noise floor 32.39 dB (paired): the PSNR measures the "
+                                "materials' difference"))
+        << describe(r);
+
+    // --floor may come first; the text is the same.
+    const ToolRun first = npf::testing::run_tool({"compare", "--floor", ref2, test2, ref, test});
+    ASSERT_EQ(first.status, 0) << describe(first);
+    EXPECT_EQ(first.out, r.out);
+
+    // JSON: the object without --floor, then the floor's fields.
+    const ToolRun plain_json = npf::testing::run_tool({"compare", ref, test, "--json"});
+    const ToolRun j = npf::testing::run_tool({"compare", ref, test, "--json", "--floor", ref2, test2});
+    ASSERT_EQ(j.status, 0) << describe(j);
+    ASSERT_GE(plain_json.out.size(), 2u);
+    const std::string without_close = plain_json.out.substr(0, plain_json.out.size() - 2);  // less "}\n"
+    ASSERT_EQ(j.out.rfind(without_close + ", \"noise_floor_db\": ", 0), 0u) << describe(j);
+    const std::size_t at = j.out.find("\"noise_floor_db\": ");
+    EXPECT_NEAR(std::strtod(j.out.c_str() + at + 18, nullptr), 32.39445774370758, 1e-5) << describe(j);
+    EXPECT_TRUE(contains(j.out, "\"noise_floor_kind\": \"paired\"")) << describe(j);
+    EXPECT_TRUE(contains(j.out, "\"noise_limited\": false")) << describe(j);
+    EXPECT_TRUE(contains(j.out, "\"floor_reference\": \"" + ref2 + "\", \"floor_test\": \"" + test2 + "\"}"))
+        << describe(j);
+    EXPECT_EQ(npf::testing::lines_of(j.out).size(), 1u) << describe(j);
+}
+
+TEST(CliCompare, FloorSaysWhenThePsnrMeasuresNoise) {
+    const std::string dir = npf::testing::temporary_folder("cli_compare");
+    // Seed 2 swaps the images: e_2 = -e_1, so the noise MSE is 2 e_1^2, twice the PSNR's MSE:
+    // floor = PSNR - 10 log10 2 = 8.2346620 dB, and the PSNR is noise.
+    const std::string a = constant_exr(dir, "a.exr", 0.18f), b = constant_exr(dir, "b.exr", 0.5f);
+    const ToolRun r = npf::testing::run_tool({"compare", a, b, "--floor", b, a});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_NEAR(line_value(r.out, "noise_floor_db"), 8.234662000129195, 1e-5) << describe(r);
+    EXPECT_TRUE(has_line(r.out, "noise_limited yes")) << describe(r);
+    EXPECT_TRUE(contains(r.out, "(paired): at or above the floor, so at least half of the measured error is seed "
+                                "noise"))
+        << describe(r);
+
+    // Seed 2: 0.18 against 0.15, a small error of the other sign: the floor lies 1.9 dB above the
+    // PSNR (e_1 - e_2 = d(0.5) - d(0.15)).
+    const std::string c = constant_exr(dir, "c.exr", 0.15f);
+    const ToolRun below = npf::testing::run_tool({"compare", a, b, "--floor", a, c});
+    ASSERT_EQ(below.status, 0) << describe(below);
+    EXPECT_TRUE(has_line(below.out, "noise_limited yes")) << describe(below);
+    EXPECT_TRUE(contains(below.out, "less than 3 dB below the floor")) << describe(below);
+    const double gap = line_value(below.out, "noise_floor_db") - line_value(below.out, "PSNR");
+    EXPECT_GT(gap, 0.0) << describe(below);
+    EXPECT_LT(gap, 3.0) << describe(below);
+
+    // Unpaired: the reference against itself at the second seed (here b): the PSNR of a against b.
+    const ToolRun u = npf::testing::run_tool({"compare", a, b, "--floor", b, "--json"});
+    ASSERT_EQ(u.status, 0) << describe(u);
+    const std::size_t at = u.out.find("\"noise_floor_db\": ");
+    ASSERT_NE(at, std::string::npos) << describe(u);
+    EXPECT_NEAR(std::strtod(u.out.c_str() + at + 18, nullptr), 11.244961956769007, 1e-5) << describe(u);
+    EXPECT_TRUE(contains(u.out, "\"noise_floor_kind\": \"reference\"")) << describe(u);
+    EXPECT_TRUE(contains(u.out, "\"noise_limited\": true")) << describe(u);
+    EXPECT_FALSE(contains(u.out, "floor_test")) << describe(u);
+    const ToolRun ut = npf::testing::run_tool({"compare", a, b, "--floor", b});
+    EXPECT_TRUE(has_line(ut.out, "noise_floor_kind reference")) << describe(ut);
+    EXPECT_TRUE(contains(ut.out, "the paired floor, --floor REF2.exr TEST2.exr, sees less noise")) << describe(ut);
+}
+
+TEST(CliCompare, FloorErrors) {
+    const std::string dir = npf::testing::temporary_folder("cli_compare");
+    const std::string ref = constant_exr(dir, "ref.exr", 0.2f), test = constant_exr(dir, "test.exr", 0.3f);
+    const std::string small = constant_exr(dir, "small.exr", 0.2f, 4, 4);
+
+    // A second-seed image of another size: one line naming it, no numbers, no heatmap.
+    const std::string heat = (fs::path(dir) / "heat.png").string();
+    ToolRun r = npf::testing::run_tool({"compare", ref, test, "--floor", small, test, "--heatmap", heat});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_EQ(r.err, "npf compare: error: " + small + ": is 4 x 4 but the reference " + ref +
+                         " is 12 x 11; only images of the same size can be compared\n")
+        << describe(r);
+    EXPECT_EQ(r.out, "");
+    EXPECT_FALSE(fs::exists(heat));
+    r = npf::testing::run_tool({"compare", ref, test, "--floor", ref, small, "--json"});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, small + ": is 4 x 4")) << describe(r);
+    EXPECT_EQ(npf::testing::lines_of(r.err).size(), 1u) << describe(r);
+    EXPECT_EQ(r.out, "");
+
+    r = npf::testing::run_tool({"compare", ref, test, "--floor"});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, "--floor: needs one or two images")) << describe(r);
+    r = npf::testing::run_tool({"compare", ref, test, "--floor", "--json"});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    r = npf::testing::run_tool({"compare", ref, "--floor", ref, test});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, "give REF.exr TEST.exr before --floor")) << describe(r);
+    r = npf::testing::run_tool({"compare", ref, test, "--floor", ref, "--floor", test});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, "--floor: given twice")) << describe(r);
+    // The first seed's files again: no noise, an infinite floor, and a warning.
+    r = npf::testing::run_tool({"compare", ref, test, "--floor", ref, test});
+    EXPECT_EQ(r.status, 0) << describe(r);
+    EXPECT_TRUE(has_line(r.out, "noise_floor_db inf")) << describe(r);
+    EXPECT_TRUE(contains(r.err, "npf compare: warning: --floor: the second seed's images give exactly")) << describe(r);
+
+    const std::string missing = (fs::path(dir) / "missing.exr").string();
+    r = npf::testing::run_tool({"compare", ref, test, "--floor", missing});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_TRUE(contains(r.err, missing)) << describe(r);
+}
+
 }  // namespace

@@ -70,16 +70,22 @@ std::vector<double> linear_rgb(const color::FloatImage& image, color::SceneSpace
     return rgb;
 }
 
+// `other` has the reference's size and channel count (the reference itself already checked).
+void check_matches(const color::FloatImage& reference, const color::FloatImage& other,
+                   const std::string& reference_name, const std::string& other_name) {
+    check_shape(other, other_name);
+    if (reference.width != other.width || reference.height != other.height)
+        throw Error(other_name, "is " + size_text(other) + " but the reference " + reference_name + " is " +
+                                    size_text(reference) + "; only images of the same size can be compared");
+    if (reference.channels != other.channels)
+        throw Error(other_name, "has " + channel_text(other.channels) + " but the reference " + reference_name +
+                                    " has " + channel_text(reference.channels));
+}
+
 Prepared prepare(const color::FloatImage& reference, const color::FloatImage& test, const MetricOptions& options,
                  const std::string& reference_name, const std::string& test_name) {
     check_shape(reference, reference_name);
-    check_shape(test, test_name);
-    if (reference.width != test.width || reference.height != test.height)
-        throw Error(test_name, "is " + size_text(test) + " but the reference " + reference_name + " is " +
-                                   size_text(reference) + "; only images of the same size can be compared");
-    if (reference.channels != test.channels)
-        throw Error(test_name, "has " + channel_text(test.channels) + " but the reference " + reference_name +
-                                   " has " + channel_text(reference.channels));
+    check_matches(reference, test, reference_name, test_name);
     if (reference.width == 0 || reference.height == 0)
         throw Error(test_name, "is empty (" + size_text(test) + "); nothing to compare");
     check_finite(reference, reference_name, options.input);
@@ -241,6 +247,79 @@ ImageMetrics compare_images(const color::FloatImage& reference, const color::Flo
     m.ssim_pixels = ssim_count;
     m.pixels_total = count;
     return m;
+}
+
+namespace {
+
+// An image at the second seed, checked against the seed-1 reference, as display values of its
+// linear Rec.709 colour (width * height * 3).
+std::vector<double> second_seed_display(const color::FloatImage& reference, const std::string& reference_name,
+                                        const color::FloatImage& image, const std::string& name,
+                                        const MetricOptions& options) {
+    check_matches(reference, image, reference_name, name);
+    check_finite(image, name, options.input);
+    std::vector<double> values = linear_rgb(image, options.input);
+    for (double& v : values) v = display_value(v);
+    return values;
+}
+
+NoiseFloor floor_of(NoiseFloorKind kind, double mse_noise) {
+    NoiseFloor f;
+    f.kind = kind;
+    f.mse_noise = mse_noise;
+    f.psnr = mse_noise > 0.0 ? -10.0 * std::log10(mse_noise) : std::numeric_limits<double>::infinity();
+    return f;
+}
+
+}  // namespace
+
+const char* noise_floor_kind_name(NoiseFloorKind kind) {
+    return kind == NoiseFloorKind::Paired ? "paired" : "reference";
+}
+
+NoiseFloor paired_noise_floor(const color::FloatImage& reference, const color::FloatImage& test,
+                              const color::FloatImage& reference2, const color::FloatImage& test2,
+                              const MetricOptions& options, const std::string& reference_name,
+                              const std::string& test_name, const std::string& reference2_name,
+                              const std::string& test2_name) {
+    const Prepared p = prepare(reference, test, options, reference_name, test_name);
+    const std::vector<double> r2 = second_seed_display(reference, reference_name, reference2, reference2_name, options);
+    const std::vector<double> t2 = second_seed_display(reference, reference_name, test2, test2_name, options);
+    // Over the PSNR's pixels and count: the noise MSE is then a part of the PSNR's MSE.
+    double sum = 0.0;
+    for (std::size_t i = 0; i < p.width * p.height; ++i) {
+        if (!p.covered[i]) continue;
+        for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t k = i * 3 + c;
+            const double e1 = display_value(p.test[k]) - display_value(p.reference[k]), e2 = t2[k] - r2[k];
+            sum += (e1 - e2) * (e1 - e2);
+        }
+    }
+    // e_1 - e_2 = n_1 - n_2 holds the noise of two renders: half of its mean square is one's.
+    return floor_of(NoiseFloorKind::Paired, sum / (3.0 * double(p.covered_count)) / 2.0);
+}
+
+NoiseFloor reference_noise_floor(const color::FloatImage& reference, const color::FloatImage& test,
+                                 const color::FloatImage& reference2, const MetricOptions& options,
+                                 const std::string& reference_name, const std::string& test_name,
+                                 const std::string& reference2_name) {
+    const Prepared p = prepare(reference, test, options, reference_name, test_name);
+    const std::vector<double> r2 = second_seed_display(reference, reference_name, reference2, reference2_name, options);
+    double sum = 0.0;
+    for (std::size_t i = 0; i < p.width * p.height; ++i) {
+        if (!p.covered[i]) continue;
+        for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t k = i * 3 + c;
+            const double d = r2[k] - display_value(p.reference[k]);
+            sum += d * d;
+        }
+    }
+    // Not halved: a test with independent noise like the reference's carries both renders' noise.
+    return floor_of(NoiseFloorKind::Reference, sum / (3.0 * double(p.covered_count)));
+}
+
+bool noise_limited(const ImageMetrics& metrics, const NoiseFloor& floor) {
+    return floor.mse_noise > 0.0 && metrics.mse_display <= 2.0 * floor.mse_noise;
 }
 
 RelMseMap relmse_map(const color::FloatImage& reference, const color::FloatImage& test, const MetricOptions& options,

@@ -79,6 +79,64 @@ RelMseMap relmse_map(const color::FloatImage& reference, const color::FloatImage
                      const MetricOptions& options = {}, const std::string& reference_name = "reference",
                      const std::string& test_name = "test");
 
+// The noise floor of a PSNR: how much of the display MSE behind ImageMetrics::psnr is Monte
+// Carlo noise (it changes with the seed) rather than a difference of the materials (it does
+// not), as a PSNR in dB: the PSNR a test would score whose only error were that noise. Both
+// kinds are computed over exactly the pixels the PSNR compares (those of the seed-1 pair) and
+// divided by the same count, so the noise MSE is a part of the PSNR's MSE. docs/metrics.md.
+//
+// Paired: the same reference and test rendered again at a second seed. With the display errors
+// e_s = d(test_s) - d(reference_s) (d = display_value) and e_s = b + n_s, b the error that stays
+// from seed to seed and n_1, n_2 independent noise of mean 0 and equal spread,
+//   E[mean(e_1^2)] = mean(b^2) + E[mean(n^2)]   and   E[mean((e_1 - e_2)^2)] / 2 = E[mean(n^2)],
+// so mse_noise = mean((e_1 - e_2)^2) / 2 estimates the noise part of the PSNR's MSE without
+// bias. It sees the noise of the difference as rendered: with shared random numbers (same seed,
+// docs/render.md) much of each image's noise cancels in e_s, and the floor says how much.
+//
+// Reference: only the reference rendered at a second seed. mse_noise = mean((d(r_2) - d(r_1))^2),
+// i.e. the floor is the PSNR of the reference against itself: the noise part of a test whose
+// noise is like the reference's and independent of it (a different seed). For a test rendered
+// at the reference's seed it overstates the noise (understates the floor) by what the shared
+// random numbers cancel; use the paired floor there.
+enum class NoiseFloorKind {
+    Paired,     // reference and test at a second seed
+    Reference,  // the reference alone at a second seed
+};
+
+struct NoiseFloor {
+    NoiseFloorKind kind = NoiseFloorKind::Paired;
+    double psnr = 0.0;       // dB, same display encoding and peak (1) as the PSNR; +infinity without noise
+    double mse_noise = 0.0;  // the noise part of ImageMetrics::mse_display (display values, peak 1)
+};
+
+// "paired" or "reference" (npf compare's noise_floor_kind).
+const char* noise_floor_kind_name(NoiseFloorKind kind);
+
+// The paired floor of compare_images(reference, test): `reference2` and `test2` are the same two
+// materials rendered at a second seed. All four images must have the same size and channel
+// count; same checks and errors as compare_images (naming the file).
+NoiseFloor paired_noise_floor(const color::FloatImage& reference, const color::FloatImage& test,
+                              const color::FloatImage& reference2, const color::FloatImage& test2,
+                              const MetricOptions& options = {}, const std::string& reference_name = "reference",
+                              const std::string& test_name = "test",
+                              const std::string& reference2_name = "reference at the second seed",
+                              const std::string& test2_name = "test at the second seed");
+
+// The reference floor of compare_images(reference, test): `reference2` is the reference rendered
+// at a second seed (`test` only decides which pixels the PSNR compares).
+NoiseFloor reference_noise_floor(const color::FloatImage& reference, const color::FloatImage& test,
+                                 const color::FloatImage& reference2, const MetricOptions& options = {},
+                                 const std::string& reference_name = "reference", const std::string& test_name = "test",
+                                 const std::string& reference2_name = "reference at the second seed");
+
+// Within this many dB of its floor (PSNR >= floor - 3.01 dB) at least half of the measured
+// MSE is noise: the PSNR then measures the renders' noise more than the materials' difference.
+inline constexpr double kNoiseLimitedMarginDb = 3.0102999566398120;  // 10 log10(2)
+
+// True when mse_display <= 2 mse_noise and there is noise (an exact comparison with no noise
+// is never noise-limited).
+bool noise_limited(const ImageMetrics& metrics, const NoiseFloor& floor);
+
 // The display value the PSNR and SSIM see for one linear value: clamped to [0, 1], then the
 // sRGB transfer function (12.92 v up to 0.0031308, 1.055 v^(1/2.4) - 0.055 above).
 double display_value(double linear);
