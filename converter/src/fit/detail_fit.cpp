@@ -220,6 +220,19 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
         ap.measure.push_back(kTwoPi / sp);
         ap.lerp.push_back(detail_position(g, 0.0, 0.0, pd).p);
     }
+    // Sample (a, b, c, e): theta_h, theta_d, phi_d and phi_h indices, in storage order.
+    auto sample_index = [&](std::size_t a, int b, int c, int e) {
+        return ((a * std::size_t(sd) + std::size_t(b)) * std::size_t(sp) + std::size_t(c)) * std::size_t(se) +
+               std::size_t(e);
+    };
+    auto sample_angles = [&](std::size_t a, int b, int c, int e) {
+        HalfDiff hd;
+        hd.theta_h = ah.angle[a];
+        hd.phi_h = se == 1 ? 0.0 : kTwoPi * (e + 0.5) / se;
+        hd.theta_d = ad.angle[std::size_t(b)];
+        hd.phi_d = ap.angle[std::size_t(c)];
+        return hd;
+    };
     const std::size_t per_row = std::size_t(sd) * std::size_t(sp) * std::size_t(se);
     const std::size_t samples = std::size_t(sh) * per_row;
     std::vector<float> residual(samples * C), weight(samples * groups, 0.f);
@@ -232,13 +245,8 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
             for (int b = 0; b < sd; ++b) {
                 for (int c = 0; c < sp; ++c) {
                     for (int e = 0; e < se; ++e) {
-                        const std::size_t s = ((a * std::size_t(sd) + std::size_t(b)) * std::size_t(sp) +
-                                               std::size_t(c)) * std::size_t(se) + std::size_t(e);
-                        HalfDiff hd;
-                        hd.theta_h = ah.angle[a];
-                        hd.phi_h = se == 1 ? 0.0 : kTwoPi * (e + 0.5) / se;
-                        hd.theta_d = ad.angle[std::size_t(b)];
-                        hd.phi_d = ap.angle[std::size_t(c)];
+                        const std::size_t s = sample_index(a, b, c, e);
+                        const HalfDiff hd = sample_angles(a, b, c, e);
                         Vec3d wi, wo;
                         directions_from_half_diff(hd, wi, wo);
                         if (!(wi.z > 1e-6) || !(wo.z > 1e-6)) continue;
@@ -303,8 +311,7 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
                     for (int c = 0; c < sp; ++c) {
                         const Corners q = corners_of(g, ah.lerp[a], ad.lerp[std::size_t(b)], ap.lerp[std::size_t(c)]);
                         for (int e = 0; e < se; ++e) {
-                            const std::size_t s = ((a * std::size_t(sd) + std::size_t(b)) * std::size_t(sp) +
-                                                   std::size_t(c)) * std::size_t(se) + std::size_t(e);
+                            const std::size_t s = sample_index(a, b, c, e);
                             for (int j = 0; j < 8; ++j) {
                                 if (std::size_t(q.h[j]) != h || q.weight[j] == 0.0) continue;
                                 const std::size_t i = q.index[j];
@@ -518,16 +525,10 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
                 for (int b = 0; b < sd; ++b) {
                     for (int c = 0; c < sp; ++c) {
                         for (int e = 0; e < se; ++e) {
-                            const std::size_t s = ((a * std::size_t(sd) + std::size_t(b)) * std::size_t(sp) +
-                                                   std::size_t(c)) * std::size_t(se) + std::size_t(e);
+                            const std::size_t s = sample_index(a, b, c, e);
                             if (!(weight[s * groups] > 0.f)) continue;
-                            HalfDiff hd;
-                            hd.theta_h = ah.angle[a];
-                            hd.phi_h = se == 1 ? 0.0 : kTwoPi * (e + 0.5) / se;
-                            hd.theta_d = ad.angle[std::size_t(b)];
-                            hd.phi_d = ap.angle[std::size_t(c)];
                             Vec3d wi, wo;
-                            directions_from_half_diff(hd, wi, wo);
+                            directions_from_half_diff(sample_angles(a, b, c, e), wi, wo);
                             model.eval_all(to_float(wi), to_float(wo), with.data());
                             base_model.eval_all(to_float(wi), to_float(wo), without.data());
                             for (std::size_t ch = 0; ch < C; ++ch) {
