@@ -37,8 +37,8 @@ struct ConvertSettings {
     // Close G at the horizon (NpfModel::close_g_at_horizon) before the detail fit, so that no
     // conversion gains light at grazing views; off in the paper preset (its pure model).
     bool close_horizon = false;
-    // Keep the detail layer only when it lowers the BRDF-space error (error_pairs > 0), the
-    // measurement independent of its fit.
+    // Anisotropic models keep the detail layer only when it lowers the BRDF-space error
+    // (error_pairs > 0), the measurement independent of its fit.
     bool detail_only_if_better = true;
     // RGB factors are stored losslessly unless this is set: three channels gain little from the
     // SVD, and what little they gain costs visible colour error (docs/fitting.md).
