@@ -60,7 +60,7 @@ int main(int argc, char** argv) try {
         else if (a == "--importance") o.importance_power_view = o.importance_power_light = std::atof(next().c_str());
         else if (a == "--compressive") o.compressive_power = std::atof(next().c_str());
         else if (a == "--epsilon") o.compressive_epsilon = std::atof(next().c_str());
-        else if (a == "--plain") o.extrapolate = false;
+        else if (a == "--plain") o.acceleration = npf::AwlsOptions::Acceleration::None;
         else if (a == "--three-angle") o.volume_weight = npf::VolumeWeight::ThreeAngle;
         else if (a == "--pairs") pairs = std::atoi(next().c_str());
         else throw npf::Error(a, "unknown option");

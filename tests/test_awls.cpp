@@ -4,13 +4,19 @@
 #include <npf/converter/analytic/analytic_brdf.h>
 #include <npf/converter/fit/awls.h>
 #include <npf/converter/fit/fit_error.h>
+#include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
+
+#include "synthetic_rgl.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -114,19 +120,94 @@ TEST(Awls, FittedFactorsMatchTheTrueOnes) {
     EXPECT_NEAR(f.rho_s[0], f0 / 4.0, 0.03 * f0 / 4.0);
 }
 
+// The acceleration (Anderson mixing of the last sweeps) against plain alternation: lower error
+// after the same sweeps, and after 150 sweeps lower than plain alternation reaches in 300 (this
+// material's valley is long: plain alternation still gains after 1000 sweeps).
 TEST(Awls, ConvergesFasterWithExtrapolation) {
     const AnalyticBrdf source(plastic(0.3f, 0.3f));
     npf::AwlsOptions o = isotropic_options(32, npf::Channels::spectral({550.f}));
-    o.max_iterations = 1000;
-    o.tolerance = 1e-6;
-    npf::AwlsReport fast, plain;
+    o.tolerance = 0.0;
+    o.max_iterations = 150;
+    o.g_pin = 0.0;  // the pin's optimum is another than the unpinned crawl's: compare without it
+    npf::AwlsReport fast, plain, plain_long;
     npf::fit_npf(source, o, &fast);
-    o.extrapolate = false;
+    o.acceleration = npf::AwlsOptions::Acceleration::None;
     npf::fit_npf(source, o, &plain);
-    std::printf("[ awls     ] sweeps to tolerance 1e-6: %d with extrapolation, %d plain; errors %.3e / %.3e\n", fast.iterations[0],
-                plain.iterations[0], fast.relative_error[0], plain.relative_error[0]);
-    EXPECT_LT(fast.iterations[0], plain.iterations[0]);
-    EXPECT_LE(fast.relative_error[0], plain.relative_error[0] * 1.01);
+    o.max_iterations = 300;
+    npf::fit_npf(source, o, &plain_long);
+    std::printf("[ awls     ] weighted error after 150 sweeps: %.4e accelerated, %.4e plain (%.4e after 300)\n", fast.relative_error[0],
+                plain.relative_error[0], plain_long.relative_error[0]);
+    EXPECT_LT(fast.relative_error[0], plain.relative_error[0]);
+    EXPECT_LT(fast.relative_error[0], plain_long.relative_error[0]);
+}
+
+// Issue 16: with the compressive weight, every block of brushed copper crawled into the sweep
+// cap (F rising and G falling together towards grazing angles, ~3e-5 of the error per sweep,
+// while the error's float rounding, ~1e-5, made the line search accept and reject at random).
+// A small spectral copy of the recipe (16 wavelengths, one block, the production tolerance and
+// cap) must stop by its tolerance, and at an error no higher than the capped fit's.
+TEST(Awls, SpectralCopperStopsByItsTolerance) {
+    const std::unique_ptr<npf::Brdf> source = npf::open_material(std::string(NPF_SOURCE_DIR) + "/configs/materials/brushed_copper.yaml");
+    const std::vector<float>& all = source->info().channels.wavelengths();
+    std::vector<float> wl;
+    for (std::size_t k = 0; k < 16; ++k) wl.push_back(all[k * (all.size() - 1) / 15]);
+    npf::AwlsOptions o;
+    o.grid = {24, 32, 24, 32};
+    o.g_theta = 24;
+    o.g_phi = 32;
+    o.phi_d_samples = 8;
+    o.channels = npf::Channels::spectral(wl);
+    o.max_iterations = 200;  // the production preset
+    o.tolerance = 1e-5;
+    npf::AwlsReport r, capped;
+    npf::fit_npf(*source, o, &r);
+    o.tolerance = 0.0;
+    npf::fit_npf(*source, o, &capped);
+    double worst = 0.0;
+    for (std::size_t c = 0; c < wl.size(); ++c) worst = std::max(worst, r.relative_error[c] / capped.relative_error[c] - 1.0);
+    std::printf("[ awls     ] copper, 16 wavelengths: %d sweeps (cap %d); weighted error at most %.2e above 200 sweeps' (relative)\n",
+                r.iterations[0], o.max_iterations, worst);
+    EXPECT_LT(r.iterations[0], o.max_iterations);
+    EXPECT_LT(worst, 1e-3);
+}
+
+// Issue 16: on measured files the alternation drifts along the near-symmetry G -> G s,
+// F -> F / s^2 at a constant small gain per sweep (ilm: 1.1e-4 of the error per sweep, ten times
+// the tolerance, for all 200 sweeps) and so always stopped at its cap. The pin holds G near its
+// first sweep's: the same fit then stops by its tolerance, at a weighted error within a few per
+// cent of the capped drift's.
+TEST(Awls, MeasuredMaterialStopsByItsToleranceWithTheGPin) {
+    const std::string path = npf::testing::shared_data_file("rgl/ilm_l3_37_metallic_rgb.bsdf");
+    if (path.empty()) GTEST_SKIP() << "rgl/ilm_l3_37_metallic_rgb.bsdf not found in the shared data folder";
+    const std::unique_ptr<npf::Brdf> source = npf::open_material(path);
+    npf::AwlsOptions o = isotropic_options(32, npf::Channels::rgb());
+    o.max_iterations = 200;
+    o.tolerance = 1e-5;
+    npf::AwlsReport pinned, drifting;
+    npf::fit_npf(*source, o, &pinned);
+    o.g_pin = 0.0;
+    npf::fit_npf(*source, o, &drifting);
+    std::printf("[ awls     ] ilm, 32 rows: %d sweeps pinned (error %.4e), %d without the pin (error %.4e); cap %d\n", pinned.iterations[0],
+                pinned.relative_error[1], drifting.iterations[0], drifting.relative_error[1], o.max_iterations);
+    EXPECT_LT(pinned.iterations[0], o.max_iterations / 2);
+    EXPECT_EQ(drifting.iterations[0], o.max_iterations);
+    for (std::size_t c = 0; c < 3; ++c) EXPECT_LT(pinned.relative_error[c], drifting.relative_error[c] * 1.05) << c;
+}
+
+// The line search that the paper preset keeps (and the fit used before Anderson's mix) also
+// beats plain alternation after the same sweeps.
+TEST(Awls, LineSearchBeatsPlainAlternation) {
+    const AnalyticBrdf source(plastic(0.3f, 0.3f));
+    npf::AwlsOptions o = isotropic_options(32, npf::Channels::spectral({550.f}));
+    o.tolerance = 0.0;
+    o.max_iterations = 60;
+    o.g_pin = 0.0;
+    npf::AwlsReport line, plain;
+    o.acceleration = npf::AwlsOptions::Acceleration::LineSearch;
+    npf::fit_npf(source, o, &line);
+    o.acceleration = npf::AwlsOptions::Acceleration::None;
+    npf::fit_npf(source, o, &plain);
+    EXPECT_LT(line.relative_error[0], plain.relative_error[0]);
 }
 
 // A mirror-sharp lobe: the whole peak lies in the first few cells of the square-root grid.
@@ -267,9 +348,12 @@ TEST(Awls, ZeroDataGiveZeroFactorsNotNaN) {
 }
 
 // The fit is linear in the data's scale: rho_d and rho_s scale, D, F, G (in their gauge) do not.
+// (Not with the compressive weight, whose epsilon is absolute, display-referred: at a scale of
+// 1e-6 it is the plain weight. It is off here, so that the test sees the fit's own arithmetic.)
 TEST(Awls, TinyAndHugeValuesScaleTheFit) {
     const AnalyticBrdf base(plastic(0.2f, 0.2f));
-    const npf::AwlsOptions o = isotropic_options(24, npf::Channels::spectral({550.f}));
+    npf::AwlsOptions o = isotropic_options(24, npf::Channels::spectral({550.f}));
+    o.compressive_power = 0.0;
     const npf::NpfFactors unit = npf::fit_npf(base, o);
     for (float scale : {1e-6f, 1e4f}) {
         const ScaledSource scaled(base, scale);
@@ -344,6 +428,11 @@ TEST(Awls, RejectsBadOptions) {
     o = isotropic_options(8, npf::Channels::spectral({550.f}));
     o.max_iterations = 0;
     EXPECT_THROW(npf::fit_npf(source, o), npf::Error);
+    for (double pin : {-1.0, double(NAN), double(INFINITY)}) {
+        o = isotropic_options(8, npf::Channels::spectral({550.f}));
+        o.g_pin = pin;
+        EXPECT_THROW(npf::fit_npf(source, o), npf::Error) << pin;
+    }
 }
 
 }  // namespace

@@ -89,7 +89,7 @@ TEST(BatchConfig, SettingsResolveAsTheConvertFlagsDo) {
     EXPECT_DOUBLE_EQ(s.fit.importance_power_view, 1.0);
     EXPECT_DOUBLE_EQ(s.fit.importance_power_light, 1.0);
     EXPECT_TRUE(s.fit.smith_start && s.fit.bound_g);
-    EXPECT_FALSE(s.fit.extrapolate);
+    EXPECT_EQ(s.fit.acceleration, npf::AwlsOptions::Acceleration::None);
     EXPECT_EQ(s.error_pairs, 0);
     EXPECT_EQ(s.fit.threads, 3);
     EXPECT_EQ(s.wavelengths, "400:700:4");

@@ -287,7 +287,7 @@ ConvertSettings resolve_convert_settings(const Settings& s, bool source_isotropi
     if (has("volume_weight")) o.volume_weight = val("volume_weight") == "paper" ? VolumeWeight::Paper : VolumeWeight::ThreeAngle;
     if (has("iterations")) o.max_iterations = std::atoi(val("iterations").c_str());
     if (has("tolerance")) o.tolerance = std::strtod(val("tolerance").c_str(), nullptr);
-    if (has("plain")) o.extrapolate = val("plain") != "true";
+    if (has("plain") && val("plain") == "true") o.acceleration = AwlsOptions::Acceleration::None;
     if (has("g_prior")) {
         const std::string& v = val("g_prior");
         o.smith_start = v == "smith" || v == "smith-start";

@@ -68,7 +68,7 @@ std::string resolved_text(const ConvertSettings& s) {
          (o.importance_power_light != o.importance_power_view ? "," + g17(o.importance_power_light) : std::string()) +
          "\ncompressive=" + g17(o.compressive_power) +
          "\nepsilon=" + g17(o.compressive_epsilon) + "\n";
-    t += "extrapolate=" + std::to_string(o.extrapolate) + "\nsmith_start=" + std::to_string(o.smith_start) +
+    t += "acceleration=" + std::to_string(int(o.acceleration)) + "\ng_pin=" + g17(o.g_pin) + "\nsmith_start=" + std::to_string(o.smith_start) +
          "\nbound_g=" + std::to_string(o.bound_g) + "\n";
     t += "iterations=" + std::to_string(o.max_iterations) + "\ntolerance=" + g17(o.tolerance) + "\n";
     t += "pca=" + g17(s.compression.d_ratio) + "," + g17(s.compression.g_ratio) + "\nrank=" +

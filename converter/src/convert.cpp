@@ -95,6 +95,11 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
         o.phi_d_samples = isotropic ? 0 : (paper ? 16 : 8);
         o.max_iterations = paper ? 500 : 200;
         o.tolerance = paper ? 1e-6 : 1e-5;
+        // The paper preset keeps the fit it was measured with (docs/fitting.md, "Convergence").
+        if (paper) {
+            o.acceleration = AwlsOptions::Acceleration::LineSearch;
+            o.g_pin = 0.0;
+        }
         // The accuracy ladder (docs/fitting.md, "Detail layer"): the same base, a finer residual.
         if (!paper) {
             s.detail.grid = preset == ConvertPreset::Fine ? DetailGrid{40, 20, 40} : DetailGrid{32, 12, 32};
@@ -240,6 +245,10 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
     m.emplace_back("fit_compressive_epsilon", text(o.compressive_epsilon));
     m.emplace_back("fit_max_iterations", std::to_string(o.max_iterations));
     m.emplace_back("fit_tolerance", text(o.tolerance));
+    m.emplace_back("fit_acceleration", o.acceleration == AwlsOptions::Acceleration::Anderson     ? "anderson"
+                                        : o.acceleration == AwlsOptions::Acceleration::LineSearch ? "line-search"
+                                                                                                   : "none");
+    m.emplace_back("fit_g_pin", text(o.g_pin));
     m.emplace_back("fit_iterations", std::to_string(most_iterations));
     m.emplace_back("fit_weighted_error_max", text(worst_weighted));
     m.emplace_back("fit_invalid_values", std::to_string(report.fit.invalid_values));

@@ -163,7 +163,7 @@ int run_convert(const std::vector<std::string>& args) {
         o.tolerance = number("--tolerance", cl.value("--tolerance"));
         if (!(o.tolerance >= 0.0)) throw Error("--tolerance", "must not be negative");
     }
-    if (cl.has("--plain")) o.extrapolate = false;
+    if (cl.has("--plain")) o.acceleration = AwlsOptions::Acceleration::None;
     if (cl.has("--g-prior")) {
         const std::string v = cl.value("--g-prior");
         if (v == "smith") o.smith_start = o.bound_g = true;

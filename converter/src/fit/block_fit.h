@@ -20,13 +20,39 @@ struct BlockFactors {
     std::array<double, L> rho_d{}, rho_s{};
 };
 
+// The last sweeps of a block, for Anderson acceleration (block_fit_impl.h).
+constexpr int kAndersonDepth = 8;  // differences kept
+
+template <int L>
+class Anderson {
+public:
+    // Records a sweep: x its start, g its result.
+    void push(const BlockFactors<L>& x, const BlockFactors<L>& g);
+    // Replaces D, F and G of the lanes it can mix (the result) by the mix; true for those lanes.
+    std::array<bool, L> mix(BlockFactors<L>& out) const;
+
+private:
+    std::vector<std::vector<float>> m_x, m_g;  // oldest first; D, F and G packed, lanes innermost
+    std::size_t m_d = 0, m_f = 0;              // D and F cells
+};
+
 template <int L>
 class BlockFit {
 public:
     BlockFit(const SampleSet& samples, const AwlsOptions& options, int threads);
 
-    // Resamples `channels` (at most L) of the source; unused lanes repeat the last channel.
-    // Returns the number of non-finite values (given zero weight).
+    // Evaluates the source at every sample for the channels of several consecutive blocks in
+    // one pass: one eval_cos per direction pair for all of them, so that a reader whose cost is
+    // per pair (the RGL reader's VNDF inversion and interpolation weights; with more than 8
+    // channels it interpolates every stored channel whatever the query) pays it once, not once
+    // per block. `values[b]` gets block b's values, [samples][L], unused lanes repeating the
+    // block's last channel; a channel's values do not depend on which others are asked for.
+    static void evaluate(const SampleSet& samples, const Brdf& source, const std::vector<Channels>& blocks, int threads,
+                         std::vector<std::vector<float>>& values);
+    // Takes one block's values (from evaluate; `channels` of its lanes are real) as the data of
+    // the fit: weights, sums. Returns the number of non-finite values (given zero weight).
+    std::size_t load(std::vector<float>&& values, std::size_t channels);
+    // Both, for one block of `channels` (at most L).
     std::size_t resample(const Brdf& source, const Channels& channels);
 
     // A cold start: F = G = 1, rho_s = 1, rho_d = 0 (D comes from the first update).
@@ -45,7 +71,10 @@ private:
     void update_f(BlockFactors<L>& f);
     void update_g(BlockFactors<L>& f);
     // Solves (rho_d, rho_s) jointly and returns the weighted squared error per lane.
-    std::array<double, L> update_diffuse_specular(BlockFactors<L>& f, bool solve = true);
+    std::array<double, L> update_diffuse_specular(BlockFactors<L>& f);
+    // The same for up to kMaxCandidates sets of factors in one pass over the samples.
+    static constexpr int kMaxCandidates = 2;
+    void update_diffuse_specular(BlockFactors<L>* const* candidates, int count, std::array<double, L>* errors);
     void normalise(BlockFactors<L>& f) const;
     // G = Smith's masking of the current D, G1(w) = cos(theta) / sigma(w) with sigma the
     // projected area of D seen from w (so the table, G / cos, is 1 / sigma).
@@ -68,8 +97,9 @@ private:
     std::array<double, L> m_sw{}, m_swr{}, m_swrr{};  // sums of w, w rho, w rho^2
     std::vector<double> m_cell;        // per D cell: [3][L] sums of the D update
     std::vector<std::vector<float>> m_g_acc;  // per slice: [2][g_cells][L]
+    std::vector<float> m_g_ref;               // G that the fit's gauge is pinned to
     std::vector<std::vector<double>> m_f_acc; // per slice: [2][f_cells][L]
-    bool m_trace = false;                     // NPF_AWLS_TRACE: print the error per iteration
+    bool m_trace = false;                     // NPF_AWLS_TRACE: print the error per sweep and lane
 };
 
 }  // namespace npf::fit_detail

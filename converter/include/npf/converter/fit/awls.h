@@ -5,9 +5,10 @@
 // weighted error stops falling.
 //
 // Speed (docs/fitting.md): the geometry of the samples (cells, weights, cosines) is computed
-// once and shared by every channel; channels are fitted in blocks of 16 (4 for RGB) that run
-// in lock-step through the same passes, one SIMD lane per channel; each block starts from the
-// converged factors of the previous one; the passes run on all threads.
+// once and shared by every channel; the source is evaluated for several blocks of channels per
+// direction pair; channels are fitted in blocks of 16 (4 for RGB) that run in lock-step through
+// the same passes, one SIMD lane per channel; each block starts from the converged factors of
+// the previous one; the passes run on all threads.
 #pragma once
 
 #include <npf/converter/fit/npf_factors.h>
@@ -44,9 +45,20 @@ struct AwlsOptions {
     double importance_power_light = 2.0;
     double compressive_power = 1.0;
     double compressive_epsilon = 0.01;
-    // Line-search extrapolation after each sweep (docs/fitting.md): fewer sweeps to the same
-    // error; off gives the paper's plain alternation.
-    bool extrapolate = true;
+    // Acceleration after each sweep (docs/fitting.md, "Convergence"). Anderson (the default):
+    // the Anderson mix of the last sweeps, kept per channel where it lowers the error.
+    // LineSearch: the extrapolation along the last sweep's move that the fit used until issue 16,
+    // kept for the paper preset so that its figures stay reproducible. None: the paper's plain
+    // alternation (`--plain`).
+    enum class Acceleration { None, LineSearch, Anderson };
+    Acceleration acceleration = Acceleration::Anderson;
+    // Holds G near the G of the fit's first sweep (Smith's masking of the data's D, or the
+    // converged G of the previous block of channels) with the weight g_pin x the mean weight of
+    // a G cell's data. The data hardly constrain the near-symmetry G -> G s, F -> F / s^2 (see
+    // smith_start): without the pin the alternation drifts along it for hundreds of sweeps at a
+    // constant small gain and stops at its cap, wherever the cap falls. With 1e-2 every fit
+    // stops by its tolerance (docs/fitting.md, "Convergence"). 0: no pin.
+    double g_pin = 1e-2;
     // Start G from Smith's masking of the first D estimate (docs/fitting.md): the factors then
     // take the physically meaningful split between F and G, which the data hardly constrain.
     bool smith_start = true;
@@ -55,7 +67,9 @@ struct AwlsOptions {
     // wrong for fabrics and other materials whose G grows at grazing (docs/fitting.md).
     bool bound_g = false;
     int max_iterations = 300;
-    double tolerance = 1e-5;      // stop when the weighted error falls by less than this, relative
+    // Stop when the weighted error falls by less than this per sweep, relative (over the last 10
+    // sweeps, or a tenth of it over the last 3; docs/fitting.md, "Convergence").
+    double tolerance = 1e-5;
     int threads = 0;              // 0: all hardware threads
     // Called with the fraction done in [0, 1] (from the calling thread only).
     std::function<void(double)> progress;
