@@ -123,7 +123,13 @@ void check_value(const std::string& origin, const std::string& key, const std::s
     } else if (k == "g_prior") one_of(origin, key, v, {"smith", "smith-start", "bounded", "free"});
     else if (k == "plain" || k == "render") boolean(origin, key, v);
     else if (k == "error_pairs") whole(origin, key, v, 0, 100000000);
-    else if (k == "threads" || k == "render.threads") whole(origin, key, v, 1, 1024);
+    else if (k == "target_psnr") {
+        try {
+            parse_target_psnr(v, key);
+        } catch (const Error& e) {
+            bad(origin, key, e.problem());
+        }
+    } else if (k == "threads" || k == "render.threads") whole(origin, key, v, 1, 1024);
     else if (k == "render.size") whole(origin, key, v, 16, 4096);
     else if (k == "render.spp") whole(origin, key, v, 1, 1 << 20);
     else if (k == "render.seed") whole(origin, key, v, 0, 2147483647);
@@ -233,7 +239,7 @@ const std::vector<std::string>& setting_names() {
     static const std::vector<std::string> names = {
         "preset", "wavelengths", "max_wavelengths", "isotropy", "grid", "g_grid", "phi_d_samples", "pca", "rank",
         "importance", "compressive", "epsilon", "volume_weight", "iterations", "tolerance", "g_prior", "plain",
-        "error_pairs", "threads", "edit", "render", "render.size", "render.spp", "render.seed", "render.env",
+        "error_pairs", "target_psnr", "threads", "edit", "render", "render.size", "render.spp", "render.seed", "render.env",
         "render.threads"};
     return names;
 }
@@ -294,6 +300,7 @@ ConvertSettings resolve_convert_settings(const Settings& s, bool source_isotropi
         o.bound_g = v == "smith" || v == "bounded";
     }
     if (has("error_pairs")) out.error_pairs = std::atoi(val("error_pairs").c_str());
+    if (has("target_psnr")) out.target_psnr = parse_target_psnr(val("target_psnr"), org("target_psnr"));
     if (has("threads")) o.threads = std::atoi(val("threads").c_str());
     return out;
 }

@@ -10,6 +10,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <optional>
 #include <sys/resource.h>
 #include <sys/stat.h>
 
@@ -49,7 +52,141 @@ Channels choose_channels(const Brdf& source, const ConvertSettings& s) {
     return Channels::spectral(kept);
 }
 
+std::string grid_text(const DetailGrid& g) {
+    return g.empty() ? "none" : std::to_string(g.theta_h) + "x" + std::to_string(g.theta_d) + "x" + std::to_string(g.phi_d);
+}
+
+// The largest |relative difference| of the model's directional albedo from the source's over the
+// energy views (both at the model's channels).
+void measure_energy_error(const Brdf& source, const NpfModel& model, int threads, ConvertReport& report) {
+    const NpfBrdf converted(model);
+    AlbedoTableOptions a;
+    a.theta_deg = energy_error_views_deg();
+    a.phi_deg = default_albedo_azimuths(model.isotropic() && source.info().isotropic);
+    a.estimator.samples = kEnergyErrorSamples;
+    a.threads = threads;
+    const std::vector<AlbedoRow> mine = directional_albedo_table(converted, converted.native_query(), a);
+    const std::vector<AlbedoRow> theirs = directional_albedo_table(source, source.query(model.channels), a);
+    report.energy_error = 0.0;
+    for (std::size_t r = 0; r < mine.size(); ++r) {
+        for (std::size_t c = 0; c < mine[r].albedo.size(); ++c) {
+            const double ref = theirs[r].albedo[c], got = mine[r].albedo[c];
+            // A black channel of the source: any light there is all error.
+            const double d = ref > 0.0 ? std::fabs(got - ref) / ref : (got > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+            if (d > report.energy_error) {
+                report.energy_error = d;
+                report.energy_error_theta_deg = mine[r].theta_deg;
+                report.energy_error_channel = c;
+            }
+        }
+    }
+}
+
+// --target-psnr: the base alone, then each ladder grid, until one's predicted PSNR reaches the
+// target; leaves the written candidate in `model`.
+void search_detail_ladder(const Brdf& source, NpfModel& model, const ConvertSettings& settings, int threads,
+                          const PsnrPredictor& predictor, ConvertReport& report, const std::function<void(double)>& progress) {
+    std::vector<DetailGrid> ladder = {DetailGrid{}};
+    ladder.insert(ladder.end(), settings.target_ladder.begin(), settings.target_ladder.end());
+    // Progress by cells: the detail fit's cost grows with them, a prediction's does not.
+    const auto cost = [](const DetailGrid& g) { return 1.0 + double(g.cells()) / 2048.0; };
+    double total = 0.0, done = 0.0;
+    for (const DetailGrid& g : ladder) total += cost(g);
+
+    const NpfModel base = model;
+    std::optional<NpfModel> best;
+    DetailReport best_detail;
+    double best_psnr = -std::numeric_limits<double>::infinity();
+    for (const DetailGrid& g : ladder) {
+        const auto start = Clock::now();
+        NpfModel candidate = base;
+        DetailReport detail;
+        const double from = done / total, span = cost(g) / total;
+        if (!g.empty()) {
+            DetailOptions d = settings.detail;
+            d.grid = g;
+            if (d.threads == 0) d.threads = threads;
+            detail = fit_detail_layer(source, candidate, d, [&](double f) {
+                if (progress) progress(0.6 + 0.35 * (from + 0.9 * span * f));
+            });
+        }
+        const PsnrPrediction p = predictor.predict(candidate, false);
+        report.seconds_prediction += p.seconds;
+        report.target_candidates.push_back({g, candidate.detail.rank, p.psnr, seconds_since(start)});
+        done += cost(g);
+        if (progress) progress(0.6 + 0.35 * done / total);
+        // Strictly better only: of equal candidates the smaller (earlier) is kept.
+        const bool met = p.psnr >= settings.target_psnr;
+        if (met || p.psnr > best_psnr) {
+            best_psnr = p.psnr;
+            best = std::move(candidate);
+            best_detail = detail;
+        }
+        if (met) {
+            report.target_met = true;
+            break;
+        }
+    }
+    model = std::move(*best);
+    report.has_detail = model.has_detail();
+    report.detail = best_detail;
+    report.detail_rank = model.detail.rank;
+}
+
 }  // namespace
+
+double parse_target_psnr(const std::string& text, const std::string& what) {
+    char* end = nullptr;
+    const double db = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0') throw Error(what, "'" + text + "' is not a PSNR in dB (a number above 0)");
+    check_target_psnr(db, what);
+    return db;
+}
+
+void check_target_psnr(double db, const std::string& what) {
+    if (!(std::isfinite(db) && db > 0.0)) throw Error(what, "a target PSNR must be a finite number of dB above 0, got " + text(db));
+}
+
+std::vector<DetailGrid> default_target_ladder() {
+    return {{16, 8, 16}, {24, 10, 24}, {32, 12, 32}, {40, 20, 40}, {48, 24, 48}, {64, 32, 64}};
+}
+
+DetailGrid parse_detail_grid(const std::string& text, char separator, const std::string& what) {
+    const std::string sep(1, separator);
+    const std::string form = "H" + sep + "D" + sep + "P (u_h, theta_d, phi_d cells)";
+    int v[3] = {0, 0, 0};
+    const int most[3] = {1024, 1024, 4096};
+    std::size_t start = 0;
+    for (int k = 0; k < 3; ++k) {
+        const std::size_t end = k < 2 ? text.find(separator, start) : text.size();
+        if (end == std::string::npos) throw Error(what, "'" + text + "' is not " + form);
+        const std::string part = text.substr(start, end - start);
+        char* stop = nullptr;
+        const long n = std::strtol(part.c_str(), &stop, 10);
+        if (part.empty() || *stop != '\0' || n < 1 || n > most[k]) {
+            throw Error(what, "'" + text + "' is not " + form + ", each a whole number in [1, " + std::to_string(most[k]) + "]");
+        }
+        v[k] = int(n);
+        start = end + 1;
+    }
+    return {v[0], v[1], v[2]};
+}
+
+std::vector<DetailGrid> parse_detail_ladder(const std::string& text, const std::string& what) {
+    std::vector<DetailGrid> grids;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = text.find(',', start);
+        grids.push_back(parse_detail_grid(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start), 'x', what));
+        if (grids.size() > 1 && grids.back().cells() <= grids[grids.size() - 2].cells()) {
+            throw Error(what, "the grids must grow in cells (the search writes the first, smallest, that reaches the target)");
+        }
+        if (comma == std::string::npos) return grids;
+        start = comma + 1;
+    }
+}
+
+std::vector<double> energy_error_views_deg() { return DetailOptions{}.energy_views_deg; }
 
 ConvertPreset parse_convert_preset(const std::string& name, const std::string& what) {
     if (name == "preview") return ConvertPreset::Preview;
@@ -141,6 +278,18 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
     const BrdfInfo& info = source.info();
     ConvertReport report;
     report.input_bytes = info.file_bytes;
+    const bool target = settings.target_psnr != 0.0;
+    if (target) check_target_psnr(settings.target_psnr, "target_psnr");
+    // The source's renders first: a missing environment map fails before the long fit.
+    std::optional<PsnrPredictor> predictor;
+    if (settings.predict_psnr || target) {
+        const auto t0 = Clock::now();
+        PsnrPredictionOptions p = settings.prediction;
+        if (p.threads == 0) p.threads = settings.fit.threads;
+        predictor.emplace(source, p);
+        report.prediction_settings = predictor->settings_text();
+        report.seconds_prediction += seconds_since(t0);
+    }
     report.isotropic = settings.isotropy == Isotropy::Auto ? info.isotropic : settings.isotropy == Isotropy::Isotropic;
 
     AwlsOptions o = settings.fit;
@@ -151,9 +300,11 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
     } else if (o.grid.phi_h == 1 || o.g_phi == 1) {
         throw Error(info.path.empty() ? "convert" : info.path, "anisotropic factors need phi_h and G phi sizes above 1");
     }
-    // Fitting is most of the time; the error measurement and writing the rest.
+    // Fitting is most of the time; the error measurement and writing the rest (with a target,
+    // the ladder's detail fits take a share).
+    const double fit_share = target ? 0.6 : 0.9;
     o.progress = [&](double f) {
-        if (progress) progress(0.9 * f);
+        if (progress) progress(fit_share * f);
     };
     const NpfFactors factors = fit_npf(source, o, &report.fit);
 
@@ -168,7 +319,9 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
     report.g_kept_ratio = model.G.kept_ratio;
 
     if (settings.close_horizon) report.horizon_columns_closed = model.close_g_at_horizon();
-    if (!settings.detail.grid.empty()) {
+    if (target) {
+        search_detail_ladder(source, model, settings, o.threads, *predictor, report, progress);
+    } else if (!settings.detail.grid.empty()) {
         DetailOptions d = settings.detail;
         if (d.threads == 0) d.threads = o.threads;
         report.detail = fit_detail_layer(source, model, d, [&](double f) {
@@ -178,6 +331,7 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
         report.detail_rank = model.detail.rank;
     }
 
+    report.detail_grid = model.detail_grid;
     t = Clock::now();
     if (settings.error_pairs > 0) {
         const std::size_t C = factors.channel_count();
@@ -201,10 +355,12 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
             // only where the independent error measurement says it helps. (Not on isotropic ones:
             // relative RMS is ruled by near-black channels, and it rejected cg_sunflower's layer,
             // which lifts its render from 35.9 to 46.3 dB.)
-            if (settings.detail_only_if_better && !model.isotropic() &&
+            // (With a target the predicted render decides instead.)
+            if (settings.detail_only_if_better && !target && !model.isotropic() &&
                 !(report.detailed_error.mean_relative_rms < report.compressed_error.mean_relative_rms)) {
                 model = without_detail;
                 report.has_detail = false;
+                report.detail_grid = DetailGrid{};
                 report.detail_not_kept = true;
             }
         }
@@ -218,7 +374,15 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
         report.albedo_max_channel = e.channel;
         report.albedo_unbounded_at_horizon = e.unbounded_at_horizon;
     }
+    measure_energy_error(source, model, o.threads, report);
     report.seconds_error = seconds_since(t);
+    if (predictor) {
+        // Again for the written model, now with its noise floor (a target's search rendered the
+        // candidates at one seed only; the same seed gives the same PSNR).
+        report.prediction = predictor->predict(model, true);
+        report.predicted = true;
+        report.seconds_prediction += report.prediction.seconds;
+    }
 
     double worst_weighted = 0.0;
     int most_iterations = 0;
@@ -284,6 +448,31 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
     }
     m.emplace_back("albedo_max", text(report.albedo_max));
     m.emplace_back("albedo_max_view_theta", text(report.albedo_max_theta_deg));
+    {
+        std::string views;
+        for (double v : energy_error_views_deg()) views += (views.empty() ? "" : ",") + text(v);
+        m.emplace_back("energy_error", text(report.energy_error));
+        m.emplace_back("energy_error_view_theta", text(report.energy_error_theta_deg));
+        m.emplace_back("energy_error_channel", report.channels.name(report.energy_error_channel));
+        m.emplace_back("energy_error_views", views);
+    }
+    // The file's own size is not known before it is written; the source's is.
+    if (report.input_bytes > 0) m.emplace_back("source_bytes", std::to_string(report.input_bytes));
+    if (report.predicted) {
+        m.emplace_back("predicted_psnr", text(report.prediction.psnr));
+        if (report.prediction.floor_psnr != 0.0) m.emplace_back("predicted_psnr_floor", text(report.prediction.floor_psnr));
+        m.emplace_back("predicted_psnr_render", report.prediction_settings);
+    }
+    if (target) {
+        std::string tried;
+        for (const ConvertReport::TargetCandidate& c : report.target_candidates) {
+            tried += (tried.empty() ? "" : " ") + grid_text(c.grid) + ":" + text(c.psnr);
+        }
+        m.emplace_back("target_psnr", text(settings.target_psnr));
+        m.emplace_back("target_psnr_met", report.target_met ? "true" : "false");
+        m.emplace_back("target_psnr_reached", text(report.prediction.psnr));
+        m.emplace_back("target_psnr_candidates", tried);
+    }
     m.emplace_back("pca_d_ratio_requested", text(compression.d_ratio));
     m.emplace_back("pca_g_ratio_requested", text(compression.g_ratio));
 

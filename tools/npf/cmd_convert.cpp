@@ -41,6 +41,9 @@ const std::vector<FlagSpec> kFlags = {
     {"--detail-weight", true, "power p of the detail fit's display weight (f + eps)^-p (default 1.17; 0: plain least squares)"},
     {"--detail-views", true, "view angles (degrees) at which the detail fit holds the source's albedo"},
     {"--error-pairs", true, "direction pairs of the BRDF-space error (0 skips it)"},
+    {"--target-psnr", true, "predicted render PSNR to reach (dB): writes the smallest detail layer (none, 16x8x16 .. 64x32x64) that reaches it, or the best with a warning"},
+    {"--target-grids", true, "with --target-psnr: the detail grids to try after none, growing (default 16x8x16,24x10x24,32x12x32,40x20x40,48x24x48,64x32x64)"},
+    {"--no-predict", false, "skip the predicted render PSNR (4 renders of 128x128 at 64 spp: a few seconds)"},
     {"--threads", true, "threads (default: all cores)"},
     {"--quiet", false, "no progress bar"},
     {"--help", false, "show this help"},
@@ -177,9 +180,7 @@ int run_convert(const std::vector<std::string>& args) {
         if (v == "none") {
             s.detail.grid = DetailGrid{};
         } else {
-            const auto p = parts("--detail", v, 3);
-            s.detail.grid = {int(whole("--detail", p[0], 1, 1024)), int(whole("--detail", p[1], 1, 1024)),
-                             int(whole("--detail", p[2], 1, 4096))};
+            s.detail.grid = parse_detail_grid(v, ',', "--detail");
         }
     }
     if (cl.has("--detail-energy")) {
@@ -204,6 +205,16 @@ int run_convert(const std::vector<std::string>& args) {
     }
     if (cl.has("--error-pairs")) s.error_pairs = int(whole("--error-pairs", cl.value("--error-pairs"), 0, 100000000));
     if (cl.has("--threads")) o.threads = int(whole("--threads", cl.value("--threads"), 1, 1024));
+    if (cl.has("--no-predict")) s.predict_psnr = false;
+    if (cl.has("--target-psnr")) {
+        s.target_psnr = parse_target_psnr(cl.value("--target-psnr"), "--target-psnr");
+        // The target chooses the detail grid, by the prediction.
+        if (cl.has("--detail")) throw Error("--target-psnr", "chooses the detail grid itself; leave out --detail");
+        if (!s.predict_psnr) throw Error("--target-psnr", "needs the prediction; leave out --no-predict");
+        if (cl.has("--target-grids")) s.target_ladder = parse_detail_ladder(cl.value("--target-grids"), "--target-grids");
+    } else if (cl.has("--target-grids")) {
+        throw Error("--target-grids", "needs --target-psnr");
+    }
 
     ProgressBar bar("convert " + output, !cl.has("--quiet"));
     const ConvertReport r = convert_material(*source, output, s, [&bar](double f) { bar.update(f); });
@@ -217,11 +228,16 @@ int run_convert(const std::vector<std::string>& args) {
                 r.fit.invalid_values ? (", " + std::to_string(r.fit.invalid_values) + " invalid values ignored").c_str() : "");
     std::printf("  SVD ranks   D %d (kept %.4f), G %d (kept %.4f)\n", r.d_rank, r.d_kept_ratio, r.g_rank, r.g_kept_ratio);
     if (r.input_bytes > 0) {
-        std::printf("  size        %s from %s: %.2f %% of the input (1/%.0f)\n", megabytes(r.output_bytes).c_str(),
-                    megabytes(r.input_bytes).c_str(), 100.0 * double(r.output_bytes) / double(r.input_bytes),
-                    double(r.input_bytes) / double(std::max<std::uint64_t>(1, r.output_bytes)));
+        // "1/N" for what shrinks; a (small, synthetic) source can be smaller than its conversion.
+        const double ratio = double(r.input_bytes) / double(std::max<std::uint64_t>(1, r.output_bytes));
+        char times[48];
+        if (ratio >= 1.0) std::snprintf(times, sizeof times, "1/%.0f", ratio);
+        else std::snprintf(times, sizeof times, "%.1f times its size", 1.0 / ratio);
+        std::printf("  size        %s (%llu bytes) from %s: %.2f %% of the input (%s)\n", megabytes(r.output_bytes).c_str(),
+                    static_cast<unsigned long long>(r.output_bytes), megabytes(r.input_bytes).c_str(),
+                    100.0 * double(r.output_bytes) / double(r.input_bytes), times);
     } else {
-        std::printf("  size        %s\n", megabytes(r.output_bytes).c_str());
+        std::printf("  size        %s (%llu bytes)\n", megabytes(r.output_bytes).c_str(), static_cast<unsigned long long>(r.output_bytes));
     }
     if (s.error_pairs > 0) {
         std::printf("  error       BRDF-space relative RMS %.3f %% mean, %.3f %% worst channel (fitted: %.3f %% / %.3f %%)\n",
@@ -238,7 +254,7 @@ int run_convert(const std::vector<std::string>& args) {
                     100.0 * r.detailed_error.mean_relative_rms, 100.0 * r.compressed_error.mean_relative_rms);
     }
     if (r.has_detail) {
-        const DetailGrid& dg = s.detail.grid;
+        const DetailGrid& dg = r.detail_grid;
         std::printf("  detail      %dx%dx%d (u_h, theta_d, phi_d), rank %d; weighted error %.4g -> %.4g; albedo error at "
                     "the fit's views %.2f %% -> %.2f %%; %.1f s\n",
                     dg.theta_h, dg.theta_d, dg.phi_d, r.detail_rank, r.detail.weighted_error_before,
@@ -251,6 +267,33 @@ int run_convert(const std::vector<std::string>& args) {
     }
     std::printf("  albedo      at most %.3f (view %.0f deg, %s)\n", r.albedo_max, r.albedo_max_theta_deg,
                 r.channels.name(r.albedo_max_channel).c_str());
+    std::printf("  energy      directional albedo within %.2f %% of the source's at 0..80 deg (worst at %.0f deg, %s)\n",
+                100.0 * r.energy_error, r.energy_error_theta_deg, r.channels.name(r.energy_error_channel).c_str());
+    if (r.predicted) {
+        char floor[64] = "";
+        if (r.prediction.floor_psnr != 0.0) {
+            std::snprintf(floor, sizeof floor, " (noise floor %.2f dB%s)", r.prediction.floor_psnr,
+                          r.prediction.noise_limited ? ", noise-limited" : "");
+        }
+        std::printf("  predicted   render PSNR %.2f dB against the source%s; %s\n", r.prediction.psnr, floor,
+                    r.prediction_settings.c_str());
+    }
+    if (s.target_psnr > 0.0) {
+        std::string tried;
+        for (const ConvertReport::TargetCandidate& c : r.target_candidates) {
+            char b[96];
+            if (c.grid.empty()) std::snprintf(b, sizeof b, "none %.2f", c.psnr);
+            else std::snprintf(b, sizeof b, "%dx%dx%d %.2f", c.grid.theta_h, c.grid.theta_d, c.grid.phi_d, c.psnr);
+            tried += (tried.empty() ? "" : ", ") + std::string(b);
+        }
+        std::printf("  target      %.2f dB %s: predicted %.2f dB with %s; tried (dB) %s\n", s.target_psnr,
+                    r.target_met ? "met" : "NOT met", r.prediction.psnr,
+                    r.has_detail ? "the detail layer above" : "no detail layer", tried.c_str());
+        if (!r.target_met) {
+            std::fprintf(stderr, "npf convert: warning: target %.2f dB not reached; wrote the best candidate, predicted %.2f dB\n",
+                         s.target_psnr, r.prediction.psnr);
+        }
+    }
     if (r.albedo_unbounded_at_horizon) {
         std::printf("  horizon     G's last rows extrapolate above 0 at the horizon: the albedo grows without bound in the\n"
                     "              last fraction of a degree (silhouettes); cap it: npf edit %s -o CAPPED.exr --limit-albedo 1\n",
@@ -264,10 +307,10 @@ int run_convert(const std::vector<std::string>& args) {
     }
     int most = 0;
     for (int it : r.fit.iterations) most = std::max(most, it);
-    std::printf("  time        %.1f s: resampling %.1f, fitting %.1f (%d sweeps at most), SVD %.1f, error %.1f, writing %.1f; "
-                "peak memory %.2f GiB\n",
+    std::printf("  time        %.1f s: resampling %.1f, fitting %.1f (%d sweeps at most), SVD %.1f, error %.1f, "
+                "prediction %.1f, writing %.1f; peak memory %.2f GiB\n",
                 r.seconds, r.fit.seconds_resampling, r.fit.seconds_fitting, most, r.seconds_compression, r.seconds_error,
-                r.seconds_writing, r.peak_memory_gib);
+                r.seconds_prediction, r.seconds_writing, r.peak_memory_gib);
     return 0;
 }
 

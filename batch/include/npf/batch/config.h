@@ -35,7 +35,7 @@ struct Setting {
 // Setting name -> setting. Names: the `npf convert` flags without dashes and with underscores
 // (preset, wavelengths, max_wavelengths, isotropy, grid, g_grid, phi_d_samples, pca, rank,
 // importance, compressive, epsilon, volume_weight, iterations, tolerance, g_prior, plain,
-// error_pairs, threads), plus edit (a recipe's absolute path, or "" for none) and render
+// error_pairs, target_psnr, threads), plus edit (a recipe's absolute path, or "" for none) and render
 // ("true"/"false") with render.size, render.spp, render.seed, render.env, render.threads.
 using Settings = std::map<std::string, Setting>;
 

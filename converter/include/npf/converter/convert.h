@@ -7,11 +7,13 @@
 #include <npf/converter/fit/detail_fit.h>
 #include <npf/converter/fit/fit_error.h>
 #include <npf/converter/fit/spectral_compression.h>
+#include <npf/converter/psnr_prediction.h>
 #include <npf/core/brdf.h>
 
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace npf {
 
@@ -25,6 +27,20 @@ ConvertPreset parse_convert_preset(const std::string& name, const std::string& w
 const char* convert_preset_name(ConvertPreset preset);
 
 enum class Isotropy { Auto, Isotropic, Anisotropic };
+
+// A target PSNR in dB (--target-psnr, batch target_psnr): a finite number above 0; throws
+// npf::Error naming `what` otherwise. check_target_psnr is the same rule for a parsed value.
+double parse_target_psnr(const std::string& text, const std::string& what);
+void check_target_psnr(double db, const std::string& what);
+
+// The detail grids --target-psnr tries after the base alone, in increasing size (cells): the
+// preview and production grids, the fine one, and two beyond it.
+std::vector<DetailGrid> default_target_ladder();
+// A detail grid "H<sep>D<sep>P" (u_h, theta_d, phi_d; --detail "32,12,32"), and a list of them
+// separated by commas, "16x8x16,32x12x32" (--target-grids), which must grow in cells. Throw
+// npf::Error naming `what`.
+DetailGrid parse_detail_grid(const std::string& text, char separator, const std::string& what);
+std::vector<DetailGrid> parse_detail_ladder(const std::string& text, const std::string& what);
 
 struct ConvertSettings {
     // Grid, weights, iterations, threads. The channels and, for isotropic factors, the phi
@@ -54,6 +70,16 @@ struct ConvertSettings {
     // Direction pairs of the BRDF-space error measurement (0 skips it).
     int error_pairs = 20000;
     ConvertPreset preset = ConvertPreset::Production;
+    // Predict the paired-render PSNR of what is written (psnr_prediction.h); its threads follow
+    // fit's when 0. Off (--no-predict) saves the renders' time.
+    bool predict_psnr = true;
+    PsnrPredictionOptions prediction;
+    // Above 0: choose the detail layer by that prediction instead of `detail.grid`: the base alone,
+    // then each grid of target_ladder in turn, each fitted with `detail`'s other options and
+    // predicted; the first whose predicted PSNR reaches target_psnr (dB) is written, else the best
+    // one (ConvertReport::target_met false). Needs the prediction (predict_psnr is implied).
+    double target_psnr = 0.0;
+    std::vector<DetailGrid> target_ladder = default_target_ladder();
 };
 
 // The settings of a preset, for a source that is isotropic or not (docs/fitting.md).
@@ -72,6 +98,7 @@ struct ConvertReport {
     bool has_detail = false;
     bool detail_not_kept = false;  // fitted, but it did not lower the BRDF-space error
     int detail_rank = 0;
+    DetailGrid detail_grid;  // of the written model (empty without a detail layer)
     DetailReport detail;
     std::uint64_t input_bytes = 0, output_bytes = 0;
     double seconds_compression = 0.0, seconds_error = 0.0, seconds_writing = 0.0, seconds = 0.0;
@@ -82,7 +109,32 @@ struct ConvertReport {
     double albedo_max = 0.0, albedo_max_theta_deg = 0.0;
     std::size_t albedo_max_channel = 0;
     bool albedo_unbounded_at_horizon = false;  // EnergyCheck::unbounded_at_horizon
+    // Energy error: the largest |relative difference| of the written model's directional albedo
+    // from the source's over the views kEnergyErrorViewsDeg and the channels (npf albedo
+    // --against's figure), and where.
+    double energy_error = 0.0, energy_error_theta_deg = 0.0;
+    std::size_t energy_error_channel = 0;
+    // The predicted render PSNR of the written model (predicted false when not measured).
+    bool predicted = false;
+    PsnrPrediction prediction;
+    std::string prediction_settings;  // PsnrPredictor::settings_text
+    double seconds_prediction = 0.0;  // every render and comparison, the source's included
+    // --target-psnr: each candidate tried, in order, and whether the written one reached the target.
+    struct TargetCandidate {
+        DetailGrid grid;  // empty: the base alone
+        int detail_rank = 0;
+        double psnr = 0.0;     // predicted
+        double seconds = 0.0;  // its detail fit and prediction
+    };
+    std::vector<TargetCandidate> target_candidates;
+    bool target_met = false;
 };
+
+// The views (degrees) of the energy error: those the detail fit holds (DetailOptions), 0 to 80;
+// beyond 80 the measured files' own values are extrapolated (docs/fitting.md).
+std::vector<double> energy_error_views_deg();
+// Samples per axis of the energy error's albedo estimator (npf albedo --samples).
+inline constexpr int kEnergyErrorSamples = 64;
 
 // Above this largest directional albedo a conversion is reported as gaining light: 1 plus the
 // energy check's accuracy (about 1 %), so that estimator noise alone does not trigger it.
@@ -102,8 +154,9 @@ struct EnergyCheck {
 };
 EnergyCheck energy_check(const NpfModel& model, int threads = 0);
 
-// Fits `source`, compresses, measures and writes `output` (NPF EXR, docs/format.md). The
-// progress callback gets the fraction done. Throws npf::Error (no file is left at `output`).
+// Fits `source`, compresses, measures and writes `output` (NPF EXR, docs/format.md); with
+// settings.target_psnr, searches the detail ladder first (ConvertSettings). The progress callback
+// gets the fraction done. Throws npf::Error (no file is left at `output`).
 ConvertReport convert_material(const Brdf& source, const std::string& output, const ConvertSettings& settings,
                                const std::function<void(double)>& progress = {});
 
