@@ -1,5 +1,6 @@
 #include <npf/converter/fit/detail_fit.h>
 
+#include "detail_system.h"
 #include "parallel.h"
 
 #include <npf/converter/fit/rusinkiewicz.h>
@@ -20,19 +21,12 @@ namespace npf {
 namespace {
 
 constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
-constexpr int kStencil = 27;  // the 3 x 3 x 3 neighbourhood of a cell
+constexpr int kStencil = fit_detail::kDetailStencil;
 // Channels beyond this many share one data weight (from their mean), and so one matrix: a
 // spectral material's neighbouring wavelengths then also warm-start each other's solve.
 constexpr std::size_t kMaxWeightGroups = 16;
 
 const char* const kWhat = "detail layer";
-
-// The samples along one axis: their angle, their interpolation on the detail grid and the
-// axis' share of the cell measure.
-struct Axis {
-    std::vector<double> angle, measure;
-    std::vector<table::Lerp> lerp;
-};
 
 // Slot of corner b relative to corner a in a's 27-point stencil.
 int stencil_slot(int dh, int dd, int dp) { return (dh + 1) * 9 + (dd + 1) * 3 + (dp + 1); }
@@ -65,43 +59,65 @@ Corners corners_of(const DetailGrid& g, const table::Lerp& h, const table::Lerp&
     return c;
 }
 
-// The symmetric operator of one channel's normal equations, applied without forming it:
-// the data term's stencil (shared by the channels of a weight group), the smoothness term and
-// the energy rows (dense vectors over the cells, weighted per channel).
-struct NormalOperator {
-    const std::vector<double>* stencil = nullptr;    // [cells][27]
-    const std::vector<std::int32_t>* neighbour = nullptr;  // [cells][27], -1 outside the grid
-    const std::vector<std::vector<double>>* rows = nullptr;  // energy rows a_v
-    std::vector<double> row_weight;                  // per energy row, for this channel
-    std::size_t cells = 0;
+Vec3 to_float(const Vec3d& v) { return Vec3(float(v.x), float(v.y), float(v.z)); }
 
-    void apply(const std::vector<double>& x, std::vector<double>& y) const {
-        const double* s = stencil->data();
-        const std::int32_t* nb = neighbour->data();
-        for (std::size_t i = 0; i < cells; ++i) {
-            double v = 0.0;
-            for (int k = 0; k < kStencil; ++k) {
-                const std::int32_t j = nb[i * kStencil + std::size_t(k)];
-                if (j >= 0) v += s[i * kStencil + std::size_t(k)] * x[std::size_t(j)];
-            }
-            y[i] = v;
-        }
-        for (std::size_t v = 0; v < rows->size(); ++v) {
-            if (!(row_weight[v] > 0.0)) continue;
-            const std::vector<double>& a = (*rows)[v];
-            double dot = 0.0;
-            for (std::size_t i = 0; i < cells; ++i) dot += a[i] * x[i];
-            dot *= row_weight[v];
-            for (std::size_t i = 0; i < cells; ++i) y[i] += a[i] * dot;
-        }
-    }
+}  // namespace
 
-    double diagonal(std::size_t i) const {
-        double d = (*stencil)[i * kStencil + std::size_t(stencil_slot(0, 0, 0))];
-        for (std::size_t v = 0; v < rows->size(); ++v) d += row_weight[v] * (*rows)[v][i] * (*rows)[v][i];
-        return d;
+namespace fit_detail {
+
+HalfDiff DetailSystem::sample_angles(std::size_t a, int b, int c, int e) const {
+    HalfDiff hd;
+    hd.theta_h = theta_h.angle[a];
+    hd.phi_h = phi_h_samples == 1 ? 0.0 : kTwoPi * (e + 0.5) / phi_h_samples;
+    hd.theta_d = theta_d.angle[std::size_t(b)];
+    hd.phi_d = phi_d.angle[std::size_t(c)];
+    return hd;
+}
+
+double DetailSystem::energy_error(const std::vector<double>& model_albedo) const {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < albedo_source.size(); ++i) {
+        if (albedo_source[i] > 1e-4) worst = std::max(worst, std::abs(model_albedo[i] / albedo_source[i] - 1.0));
     }
-};
+    return worst;
+}
+
+NormalOperator NormalOperator::of(const DetailSystem& system, std::size_t channel) {
+    NormalOperator op;
+    op.stencil = &system.stencil[system.group_of(channel)];
+    op.neighbour = &system.neighbour;
+    op.rows = &system.rows;
+    op.cells = system.cells;
+    op.row_weight = system.row_weight[channel];
+    return op;
+}
+
+void NormalOperator::apply(const std::vector<double>& x, std::vector<double>& y) const {
+    const double* s = stencil->data();
+    const std::int32_t* nb = neighbour->data();
+    for (std::size_t i = 0; i < cells; ++i) {
+        double v = 0.0;
+        for (int k = 0; k < kStencil; ++k) {
+            const std::int32_t j = nb[i * kStencil + std::size_t(k)];
+            if (j >= 0) v += s[i * kStencil + std::size_t(k)] * x[std::size_t(j)];
+        }
+        y[i] = v;
+    }
+    for (std::size_t v = 0; v < rows->size(); ++v) {
+        if (!(row_weight[v] > 0.0)) continue;
+        const std::vector<double>& a = (*rows)[v];
+        double dot = 0.0;
+        for (std::size_t i = 0; i < cells; ++i) dot += a[i] * x[i];
+        dot *= row_weight[v];
+        for (std::size_t i = 0; i < cells; ++i) y[i] += a[i] * dot;
+    }
+}
+
+double NormalOperator::diagonal(std::size_t i) const {
+    double d = (*stencil)[i * kStencil + std::size_t(stencil_slot(0, 0, 0))];
+    for (std::size_t v = 0; v < rows->size(); ++v) d += row_weight[v] * (*rows)[v][i] * (*rows)[v][i];
+    return d;
+}
 
 // Jacobi-preconditioned conjugate gradients from the starting point in x; the iterations used.
 int solve(const NormalOperator& op, const std::vector<double>& b, std::vector<double>& x, int max_iterations,
@@ -153,7 +169,7 @@ int solve(const NormalOperator& op, const std::vector<double>& b, std::vector<do
     return it;
 }
 
-void check(const DetailOptions& o) {
+void check_detail_options(const DetailOptions& o) {
     const DetailGrid& g = o.grid;
     if (g.theta_h < 1 || g.theta_d < 1 || g.phi_d < 1 || g.theta_h > 1024 || g.theta_d > 1024 || g.phi_d > 4096 ||
         g.cells() > NpfModel::kMaxDetailCells) {
@@ -174,25 +190,20 @@ void check(const DetailOptions& o) {
     }
 }
 
-Vec3 to_float(const Vec3d& v) { return Vec3(float(v.x), float(v.y), float(v.z)); }
-
-}  // namespace
-
-DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailOptions& o,
-                              const std::function<void(double)>& progress) {
-    const auto start = std::chrono::steady_clock::now();
-    check(o);
-    model.detail_grid = DetailGrid{};
-    model.detail = SpectralBasis{};
-    model.validate(kWhat);
-    const NpfModel base_model = model;
+DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, const DetailOptions& o, int threads,
+                                    const std::function<void(double)>& progress) {
+    check_detail_options(o);
     const ChannelQuery query = source.query(model.channels);
     const std::size_t C = model.channel_count();
     const DetailGrid& g = o.grid;
     const std::size_t cells = g.cells();
-    const int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-    const std::size_t groups = C <= kMaxWeightGroups ? C : 1;
-    auto group_of = [&](std::size_t c) { return groups == 1 ? 0 : c; };
+    DetailSystem sys;
+    sys.grid = g;
+    sys.channels = C;
+    sys.cells = cells;
+    sys.groups = C <= kMaxWeightGroups ? C : 1;
+    const std::size_t groups = sys.groups;
+    auto group_of = [&](std::size_t c) { return sys.group_of(c); };
     auto report_progress = [&](double f) {
         if (progress) progress(f);
     };
@@ -201,7 +212,10 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
     const int k = o.samples_per_cell;
     const int sh = g.theta_h * k, sd = g.theta_d * k, sp = g.phi_d * k;
     const int se = model.isotropic() ? 1 : o.phi_h_samples;
-    Axis ah, ad, ap;
+    DetailAxis& ah = sys.theta_h;
+    DetailAxis& ad = sys.theta_d;
+    DetailAxis& ap = sys.phi_d;
+    sys.phi_h_samples = se;
     for (int a = 0; a < sh; ++a) {
         const double u = (a + 0.5) / sh;
         ah.angle.push_back(kHalfPi * u * u);
@@ -221,21 +235,14 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
         ap.lerp.push_back(detail_position(g, 0.0, 0.0, pd).p);
     }
     // Sample (a, b, c, e): theta_h, theta_d, phi_d and phi_h indices, in storage order.
-    auto sample_index = [&](std::size_t a, int b, int c, int e) {
-        return ((a * std::size_t(sd) + std::size_t(b)) * std::size_t(sp) + std::size_t(c)) * std::size_t(se) +
-               std::size_t(e);
-    };
-    auto sample_angles = [&](std::size_t a, int b, int c, int e) {
-        HalfDiff hd;
-        hd.theta_h = ah.angle[a];
-        hd.phi_h = se == 1 ? 0.0 : kTwoPi * (e + 0.5) / se;
-        hd.theta_d = ad.angle[std::size_t(b)];
-        hd.phi_d = ap.angle[std::size_t(c)];
-        return hd;
-    };
+    auto sample_index = [&](std::size_t a, int b, int c, int e) { return sys.sample_index(a, b, c, e); };
+    auto sample_angles = [&](std::size_t a, int b, int c, int e) { return sys.sample_angles(a, b, c, e); };
     const std::size_t per_row = std::size_t(sd) * std::size_t(sp) * std::size_t(se);
     const std::size_t samples = std::size_t(sh) * per_row;
-    std::vector<float> residual(samples * C), weight(samples * groups, 0.f);
+    sys.residual.assign(samples * C, 0.f);
+    sys.weight.assign(samples * groups, 0.f);
+    std::vector<float>& residual = sys.residual;
+    std::vector<float>& weight = sys.weight;
     std::vector<double> row_error(std::size_t(sh) * C, 0.0), row_norm(std::size_t(sh) * C, 0.0);
     std::vector<std::size_t> row_valid(std::size_t(sh), 0);
     fit_detail::parallel_slices(std::size_t(sh), threads, [&](int, std::size_t begin, std::size_t end) {
@@ -285,24 +292,25 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
     });
     report_progress(0.3);
 
-    DetailReport report;
-    std::vector<double> data_error(C, 0.0), data_norm(C, 0.0);
+    sys.data_error.assign(C, 0.0);
+    sys.data_norm.assign(C, 0.0);
+    std::vector<double>& data_error = sys.data_error;
+    std::vector<double>& data_norm = sys.data_norm;
     for (std::size_t a = 0; a < std::size_t(sh); ++a) {
-        report.samples += row_valid[a];
+        sys.samples_valid += row_valid[a];
         for (std::size_t ch = 0; ch < C; ++ch) {
             data_error[ch] += row_error[a * C + ch];
             data_norm[ch] += row_norm[a * C + ch];
         }
     }
-    for (std::size_t ch = 0; ch < C; ++ch) {
-        report.weighted_error_before += data_norm[ch] > 0.0 ? data_error[ch] / data_norm[ch] / double(C) : 0.0;
-    }
 
     // ---- The data term's normal equations, one stencil per weight group -----------------------
     // Each cell's rows are summed by the thread that owns its theta_h slice, over the samples in
     // their fixed order: the same sums on any number of threads.
-    std::vector<std::vector<double>> stencil(groups, std::vector<double>(cells * kStencil, 0.0));
-    std::vector<std::vector<double>> rhs(C, std::vector<double>(cells, 0.0));
+    sys.stencil.assign(groups, std::vector<double>(cells * kStencil, 0.0));
+    sys.rhs.assign(C, std::vector<double>(cells, 0.0));
+    std::vector<std::vector<double>>& stencil = sys.stencil;
+    std::vector<std::vector<double>>& rhs = sys.rhs;
     fit_detail::parallel_slices(std::size_t(g.theta_h), threads, [&](int, std::size_t begin, std::size_t end) {
         for (std::size_t h = begin; h < end; ++h) {
             for (std::size_t a = 0; a < std::size_t(sh); ++a) {
@@ -338,7 +346,8 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
     report_progress(0.5);
 
     // Neighbours of each cell in stencil order (-1 outside the grid).
-    std::vector<std::int32_t> neighbour(cells * kStencil, -1);
+    sys.neighbour.assign(cells * kStencil, -1);
+    std::vector<std::int32_t>& neighbour = sys.neighbour;
     for (int h = 0; h < g.theta_h; ++h) {
         for (int d = 0; d < g.theta_d; ++d) {
             for (int p = 0; p < g.phi_d; ++p) {
@@ -404,8 +413,12 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
         }
     }
     const std::size_t V = views.size();
-    std::vector<std::vector<double>> rows(V, std::vector<double>(cells, 0.0));
-    std::vector<double> albedo_source(V * C, 0.0), albedo_base(V * C, 0.0);
+    sys.rows.assign(V, std::vector<double>(cells, 0.0));
+    sys.albedo_source.assign(V * C, 0.0);
+    sys.albedo_base.assign(V * C, 0.0);
+    std::vector<std::vector<double>>& rows = sys.rows;
+    std::vector<double>& albedo_source = sys.albedo_source;
+    std::vector<double>& albedo_base = sys.albedo_base;
     {
         constexpr int kU = 128, kPhi = 128;
         fit_detail::parallel_slices(V, threads, [&](int, std::size_t begin, std::size_t end) {
@@ -446,14 +459,57 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
         });
     }
     report_progress(0.6);
-    auto energy_error = [&](const std::vector<double>& model_albedo) {
-        double worst = 0.0;
-        for (std::size_t i = 0; i < V * C; ++i) {
-            if (albedo_source[i] > 1e-4) worst = std::max(worst, std::abs(model_albedo[i] / albedo_source[i] - 1.0));
+
+    // ---- Per channel: the energy rows' weights and targets ------------------------------------
+    sys.row_weight.assign(C, std::vector<double>(V, 0.0));
+    for (std::size_t ch = 0; ch < C; ++ch) {
+        if (!(V > 0 && data_error[ch] > 0.0)) continue;
+        std::vector<double>& row_weight = sys.row_weight[ch];
+        std::vector<double>& b = rhs[ch];
+        // A 1 % albedo error at every view costs energy_weight 1e-4 times the base's misfit.
+        const double lambda = o.energy_weight * data_error[ch] / double(V);
+        double largest = 0.0;
+        for (std::size_t v = 0; v < V; ++v) largest = std::max(largest, albedo_source[v * C + ch]);
+        for (std::size_t v = 0; v < V; ++v) {
+            const double scale = std::max(albedo_source[v * C + ch], 1e-3 * largest);
+            if (!(scale > 0.0)) continue;
+            row_weight[v] = lambda / (scale * scale);
+            const double target = albedo_source[v * C + ch] - albedo_base[v * C + ch];
+            for (std::size_t i = 0; i < cells; ++i) b[i] += row_weight[v] * rows[v][i] * target;
         }
-        return worst;
+    }
+    return sys;
+}
+
+}  // namespace fit_detail
+
+DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailOptions& o,
+                              const std::function<void(double)>& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    fit_detail::check_detail_options(o);
+    model.detail_grid = DetailGrid{};
+    model.detail = SpectralBasis{};
+    model.validate(kWhat);
+    const NpfModel base_model = model;
+    const std::size_t C = model.channel_count();
+    const DetailGrid& g = o.grid;
+    const std::size_t cells = g.cells();
+    const int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    auto report_progress = [&](double f) {
+        if (progress) progress(f);
     };
-    report.energy_error_before = energy_error(albedo_base);
+    const fit_detail::DetailSystem sys = fit_detail::assemble_detail_system(source, model, o, threads, progress);
+    const std::size_t groups = sys.groups;
+    auto group_of = [&](std::size_t c) { return sys.group_of(c); };
+    const std::size_t V = sys.views();
+    const std::vector<double>& data_norm = sys.data_norm;
+
+    DetailReport report;
+    report.samples = sys.samples_valid;
+    for (std::size_t ch = 0; ch < C; ++ch) {
+        report.weighted_error_before += data_norm[ch] > 0.0 ? sys.data_error[ch] / data_norm[ch] / double(C) : 0.0;
+    }
+    report.energy_error_before = sys.energy_error(sys.albedo_base);
 
     // ---- Solve per channel ---------------------------------------------------------------------
     std::vector<float> tables(C * cells, 0.f);
@@ -465,28 +521,9 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
         for (std::size_t gr = begin; gr < end; ++gr) {
             for (std::size_t ch = 0; ch < C; ++ch) {
                 if (group_of(ch) != gr) continue;
-                NormalOperator op;
-                op.stencil = &stencil[gr];
-                op.neighbour = &neighbour;
-                op.rows = &rows;
-                op.cells = cells;
-                op.row_weight.assign(V, 0.0);
-                std::vector<double> b = rhs[ch];
-                if (V > 0 && data_error[ch] > 0.0) {
-                    // A 1 % albedo error at every view costs energy_weight 1e-4 times the base's misfit.
-                    const double lambda = o.energy_weight * data_error[ch] / double(V);
-                    double largest = 0.0;
-                    for (std::size_t v = 0; v < V; ++v) largest = std::max(largest, albedo_source[v * C + ch]);
-                    for (std::size_t v = 0; v < V; ++v) {
-                        const double scale = std::max(albedo_source[v * C + ch], 1e-3 * largest);
-                        if (!(scale > 0.0)) continue;
-                        op.row_weight[v] = lambda / (scale * scale);
-                        const double target = albedo_source[v * C + ch] - albedo_base[v * C + ch];
-                        for (std::size_t i = 0; i < cells; ++i) b[i] += op.row_weight[v] * rows[v][i] * target;
-                    }
-                }
+                const fit_detail::NormalOperator op = fit_detail::NormalOperator::of(sys, ch);
                 std::vector<double>& x = warm[gr];
-                iterations[ch] = solve(op, b, x, o.max_iterations, o.tolerance);
+                iterations[ch] = fit_detail::solve(op, sys.rhs[ch], x, o.max_iterations, o.tolerance);
                 for (std::size_t i = 0; i < cells; ++i) tables[ch * cells + i] = float(x[i]);
             }
         }
@@ -507,17 +544,19 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
     {
         std::vector<double> albedo_after(V * C, 0.0);
         for (std::size_t v = 0; v < V; ++v) {
-            for (std::size_t ch = 0; ch < C; ++ch) albedo_after[v * C + ch] = albedo_base[v * C + ch];
+            for (std::size_t ch = 0; ch < C; ++ch) albedo_after[v * C + ch] = sys.albedo_base[v * C + ch];
         }
         // The linear part exactly; the clamp's effect is left to npf albedo's measurement.
         for (std::size_t v = 0; v < V; ++v) {
             for (std::size_t ch = 0; ch < C; ++ch) {
                 double dot = 0.0;
-                for (std::size_t i = 0; i < cells; ++i) dot += rows[v][i] * model.detail.at(ch, i);
+                for (std::size_t i = 0; i < cells; ++i) dot += sys.rows[v][i] * model.detail.at(ch, i);
                 albedo_after[v * C + ch] += dot;
             }
         }
-        report.energy_error_after = energy_error(albedo_after);
+        report.energy_error_after = sys.energy_error(albedo_after);
+        const std::size_t sh = sys.theta_h.angle.size();
+        const int sd = int(sys.theta_d.angle.size()), sp = int(sys.phi_d.angle.size()), se = sys.phi_h_samples;
         std::vector<double> error_after(std::size_t(sh) * C, 0.0);
         fit_detail::parallel_slices(std::size_t(sh), threads, [&](int, std::size_t begin, std::size_t end) {
             std::vector<double> with(C), without(C);
@@ -525,15 +564,15 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
                 for (int b = 0; b < sd; ++b) {
                     for (int c = 0; c < sp; ++c) {
                         for (int e = 0; e < se; ++e) {
-                            const std::size_t s = sample_index(a, b, c, e);
-                            if (!(weight[s * groups] > 0.f)) continue;
+                            const std::size_t s = sys.sample_index(a, b, c, e);
+                            if (!(sys.weight[s * groups] > 0.f)) continue;
                             Vec3d wi, wo;
-                            directions_from_half_diff(sample_angles(a, b, c, e), wi, wo);
+                            directions_from_half_diff(sys.sample_angles(a, b, c, e), wi, wo);
                             model.eval_all(to_float(wi), to_float(wo), with.data());
                             base_model.eval_all(to_float(wi), to_float(wo), without.data());
                             for (std::size_t ch = 0; ch < C; ++ch) {
-                                const double r = double(residual[s * C + ch]) - (with[ch] - without[ch]);
-                                error_after[a * C + ch] += double(weight[s * groups + group_of(ch)]) * r * r;
+                                const double r = double(sys.residual[s * C + ch]) - (with[ch] - without[ch]);
+                                error_after[a * C + ch] += double(sys.weight[s * groups + group_of(ch)]) * r * r;
                             }
                         }
                     }
