@@ -271,6 +271,21 @@ NoiseFloor floor_of(NoiseFloorKind kind, double mse_noise) {
     return f;
 }
 
+// The mean square of difference(k) over the PSNR's pixels and count (k = pixel * 3 + channel):
+// a noise floor's MSE is then a part of the PSNR's MSE.
+template <typename Difference>
+double covered_mean_square(const Prepared& p, Difference difference) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < p.width * p.height; ++i) {
+        if (!p.covered[i]) continue;
+        for (std::size_t k = i * 3; k < i * 3 + 3; ++k) {
+            const double d = difference(k);
+            sum += d * d;
+        }
+    }
+    return sum / (3.0 * double(p.covered_count));
+}
+
 }  // namespace
 
 const char* noise_floor_kind_name(NoiseFloorKind kind) {
@@ -285,18 +300,11 @@ NoiseFloor paired_noise_floor(const color::FloatImage& reference, const color::F
     const Prepared p = prepare(reference, test, options, reference_name, test_name);
     const std::vector<double> r2 = second_seed_display(reference, reference_name, reference2, reference2_name, options);
     const std::vector<double> t2 = second_seed_display(reference, reference_name, test2, test2_name, options);
-    // Over the PSNR's pixels and count: the noise MSE is then a part of the PSNR's MSE.
-    double sum = 0.0;
-    for (std::size_t i = 0; i < p.width * p.height; ++i) {
-        if (!p.covered[i]) continue;
-        for (std::size_t c = 0; c < 3; ++c) {
-            const std::size_t k = i * 3 + c;
-            const double e1 = display_value(p.test[k]) - display_value(p.reference[k]), e2 = t2[k] - r2[k];
-            sum += (e1 - e2) * (e1 - e2);
-        }
-    }
+    const double mse = covered_mean_square(p, [&](std::size_t k) {
+        return (display_value(p.test[k]) - display_value(p.reference[k])) - (t2[k] - r2[k]);
+    });
     // e_1 - e_2 = n_1 - n_2 holds the noise of two renders: half of its mean square is one's.
-    return floor_of(NoiseFloorKind::Paired, sum / (3.0 * double(p.covered_count)) / 2.0);
+    return floor_of(NoiseFloorKind::Paired, mse / 2.0);
 }
 
 NoiseFloor reference_noise_floor(const color::FloatImage& reference, const color::FloatImage& test,
@@ -305,17 +313,9 @@ NoiseFloor reference_noise_floor(const color::FloatImage& reference, const color
                                  const std::string& reference2_name) {
     const Prepared p = prepare(reference, test, options, reference_name, test_name);
     const std::vector<double> r2 = second_seed_display(reference, reference_name, reference2, reference2_name, options);
-    double sum = 0.0;
-    for (std::size_t i = 0; i < p.width * p.height; ++i) {
-        if (!p.covered[i]) continue;
-        for (std::size_t c = 0; c < 3; ++c) {
-            const std::size_t k = i * 3 + c;
-            const double d = r2[k] - display_value(p.reference[k]);
-            sum += d * d;
-        }
-    }
+    const double mse = covered_mean_square(p, [&](std::size_t k) { return r2[k] - display_value(p.reference[k]); });
     // Not halved: a test with independent noise like the reference's carries both renders' noise.
-    return floor_of(NoiseFloorKind::Reference, sum / (3.0 * double(p.covered_count)));
+    return floor_of(NoiseFloorKind::Reference, mse);
 }
 
 bool noise_limited(const ImageMetrics& metrics, const NoiseFloor& floor) {
