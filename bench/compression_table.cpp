@@ -5,7 +5,7 @@
 //   build/bench/npf_bench_compression SOURCE [--preset production] [--phi-d-samples K]
 //        [--pairs N] [--threads N]
 #include <npf/converter/convert.h>
-#include <npf/converter/npf_texture_writer.h>
+#include <npf/shading/npf_texture_file.h>
 #include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_model.h>

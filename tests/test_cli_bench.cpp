@@ -6,7 +6,7 @@
 #include "synthetic_rgl.h"
 
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/npf_texture_writer.h>
+#include <npf/shading/npf_texture_file.h>
 
 #include <gtest/gtest.h>
 

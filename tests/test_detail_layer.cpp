@@ -10,7 +10,6 @@
 #include <npf/converter/fit/detail_fit.h>
 #include <npf/converter/fit/rusinkiewicz.h>
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/npf_texture_writer.h>
 #include <npf/edit/albedo_limit.h>
 #include <npf/edit/colour_edits.h>
 #include <npf/edit/compression.h>

@@ -8,7 +8,6 @@
 
 #include <npf/converter/convert.h>
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/npf_texture_writer.h>
 #include <npf/core/error.h>
 #include <npf/edit/albedo_limit.h>
 #include <npf/edit/recipe.h>

@@ -6,7 +6,6 @@
 #include "synthetic_rgl.h"
 
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/npf_texture_writer.h>
 #include <npf/edit/recipe.h>
 #include <npf/shading/npf_texture_file.h>
 

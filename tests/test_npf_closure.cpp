@@ -9,7 +9,7 @@
 
 #include <npf/converter/fit/npf_factors.h>
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/npf_texture_writer.h>
+#include <npf/shading/npf_texture_file.h>
 #include <npf/core/error.h>
 #include <npf/shading/alias_table.h>
 #include <npf/shading/half_vector_sampler.h>

@@ -6,7 +6,6 @@
 #include "synthetic_rgl.h"
 
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/npf_texture_writer.h>
 #include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_brdf.h>

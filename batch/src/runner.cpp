@@ -2,7 +2,6 @@
 
 #include <npf/batch/content_hash.h>
 #include <npf/converter/convert.h>
-#include <npf/converter/npf_texture_writer.h>
 #include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
 #include <npf/edit/recipe.h>
@@ -339,8 +338,8 @@ BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
 
             const auto header = header_of(job.output, true);
             const std::string m = npf_exr::kMetadataPrefix;
-            const bool up_to_date = !options.force && header && header->count(m + "batch_hash") &&
-                                    header->at(m + "batch_hash") == r.hash;
+            const bool up_to_date = !options.force && header && header->count(m + npf_exr::kMetaBatchHash) &&
+                                    header->at(m + npf_exr::kMetaBatchHash) == r.hash;
             std::string render_hash;
             std::optional<std::map<std::string, std::string>> render_header;
             if (check.enabled) {
@@ -365,9 +364,9 @@ BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
                     edit::EditResult edited = edit::apply_edits(model, recipe.steps, recipe.options);
                     model = std::move(edited.model);
                 }
-                model.metadata.emplace_back("batch_name", job.name);
-                model.metadata.emplace_back("batch_settings", canonical_settings(job.settings));
-                model.metadata.emplace_back("batch_hash", r.hash);
+                model.metadata.emplace_back(npf_exr::kMetaBatchName, job.name);
+                model.metadata.emplace_back(npf_exr::kMetaBatchSettings, canonical_settings(job.settings));
+                model.metadata.emplace_back(npf_exr::kMetaBatchHash, r.hash);
                 write_npf_texture(model, final_stage);
                 pin_capture_date(final_stage, job.input);
                 move_into_place(final_stage, job.output);

@@ -1,8 +1,9 @@
 #include <npf/converter/convert.h>
 
-#include <npf/converter/npf_texture_writer.h>
+#include <npf/shading/npf_texture_file.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
+#include <npf/shading/npf_texture_layout.h>
 #include <npf/shading/npf_brdf.h>
 #include <npf/shading/npf_model.h>
 
@@ -446,8 +447,8 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
             m.emplace_back("error_detailed_rel_rms_max", text(report.detailed_error.max_relative_rms));
         }
     }
-    m.emplace_back("albedo_max", text(report.albedo_max));
-    m.emplace_back("albedo_max_view_theta", text(report.albedo_max_theta_deg));
+    m.emplace_back(npf_exr::kMetaAlbedoMax, text(report.albedo_max));
+    m.emplace_back(npf_exr::kMetaAlbedoMaxViewTheta, text(report.albedo_max_theta_deg));
     {
         std::string views;
         for (double v : energy_error_views_deg()) views += (views.empty() ? "" : ",") + text(v);

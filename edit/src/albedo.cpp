@@ -1,6 +1,7 @@
 #include <npf/edit/albedo.h>
 
 #include <npf/core/error.h>
+#include <npf/shading/npf_equation.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +21,7 @@ std::vector<double> directional_albedo(const NpfModel& model, const Vec3& wi, co
     std::vector<double> spec(C, 0.0), values(C);
     NpfModel::Lookup at;
     for (int i = 0; i < nu; ++i) {
-        const double u = (i + 0.5) * du, theta = 0.5 * kPiD * u * u, st = std::sin(theta), ct = std::cos(theta);
+        const double u = (i + 0.5) * du, theta = equation::theta_h_of_u(u), st = std::sin(theta), ct = std::cos(theta);
         const double solid = st * kPiD * u * du * dphi;  // d(theta_h) = pi u du
         for (int j = 0; j < np; ++j) {
             const double phi = (j + 0.5) * dphi;

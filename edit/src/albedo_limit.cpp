@@ -4,6 +4,8 @@
 
 #include <npf/converter/convert.h>
 #include <npf/core/error.h>
+#include <npf/shading/npf_texture_layout.h>
+#include <npf/shading/npf_equation.h>
 
 #include <algorithm>
 #include <atomic>
@@ -87,7 +89,7 @@ public:
             auto measure = [&](std::size_t i) {
                 const std::size_t cell = todo[i];
                 const int k = int(cell / std::size_t(m.g_phi)), j = int(cell % std::size_t(m.g_phi));
-                need[cell] = need_at(0.5 * kPiD * (k + 0.5) / m.g_theta, j);
+                need[cell] = need_at(equation::theta_centre(k, m.g_theta), j);
             };
             auto worker = [&] {
                 for (std::size_t i; (i = next.fetch_add(1)) < todo.size();) measure(i);
@@ -120,7 +122,7 @@ public:
     }
 
     // The last half cell before the horizon. Beyond G's last centre the model continues G along
-    // the line through the last two rows, G = 1.5 G_L - 0.5 G_P at the horizon itself; if that
+    // the line through the last two rows (G's horizon rule, npf_equation.h); if that
     // stays above 0 the albedo grows like 1 / cos(theta_view) there without bound (a fitted
     // paper_white reached 18 at 89.99 degrees). So where a view almost at the horizon (99.9 % of
     // the way through the band) exceeds the target, the last row is first lowered until the line
@@ -132,7 +134,7 @@ public:
         std::size_t steps = 0;
         const std::size_t last = std::size_t(m.g_theta - 1) * std::size_t(m.g_phi);
         const std::size_t prev = std::size_t(m.g_theta - 2) * std::size_t(m.g_phi);
-        const double theta_last = 0.5 * kPiD * (m.g_theta - 0.5) / m.g_theta;
+        const double theta_last = equation::theta_centre(m.g_theta - 1, m.g_theta);
         auto band = [&](double fraction) { return theta_last + fraction * (0.5 * kPiD - theta_last); };
         for (int j = 0; j < m.g_phi; ++j) {
             if (!(need_at(band(0.999), j).factor < 1.0)) continue;
@@ -140,7 +142,7 @@ public:
             for (std::size_t c = 0; c < m.channel_count(); ++c) {
                 if (!(m.rho_s[c] > 0.f) || !(m.g_at_horizon(c, j) > 0.0)) continue;
                 const double g_last = m.G.at(c, last + std::size_t(j)), g_prev = m.G.at(c, prev + std::size_t(j));
-                s = std::min(s, std::max(0.0, g_prev / (3.0 * g_last)));
+                s = std::min(s, equation::g_closing_scale(g_last, g_prev));
             }
             if (s < 1.0) {
                 scale_cell(last + std::size_t(j), s);
@@ -209,10 +211,10 @@ NpfModel limit_albedo(const NpfModel& model, const AlbedoLimit& limit, EditRecor
     }
 
     // npf convert's energy metadata describes what the file holds: measured again.
-    if (has_metadata(out, "albedo_max") && (scaled > 0 || diffuse_capped > 0)) {
+    if (has_metadata(out, npf_exr::kMetaAlbedoMax) && (scaled > 0 || diffuse_capped > 0)) {
         const EnergyCheck e = energy_check(out, limit.threads);
-        set_metadata(out, "albedo_max", detail::num(e.albedo_max));
-        set_metadata(out, "albedo_max_view_theta", detail::num(e.theta_deg));
+        set_metadata(out, npf_exr::kMetaAlbedoMax, detail::num(e.albedo_max));
+        set_metadata(out, npf_exr::kMetaAlbedoMaxViewTheta, detail::num(e.theta_deg));
     }
 
     if (record) {

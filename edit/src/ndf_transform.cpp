@@ -4,6 +4,7 @@
 
 #include <npf/core/error.h>
 #include <npf/core/vec.h>
+#include <npf/shading/npf_equation.h>
 #include <npf/shading/table_interpolation.h>
 
 #include <algorithm>
@@ -71,14 +72,14 @@ using table::bilinear;
 // Where a unit direction falls on D's table (NpfModel::prepare's rule) and on G's.
 Bilinear d_position(const Dir& h, int d_theta, int d_phi) {
     const double theta = table::polar(h.x, h.y, h.z);
-    const table::Lerp row = table::clamped(std::sqrt(theta / kHalfPi) * d_theta, d_theta);
-    const table::Lerp col = d_phi == 1 ? table::Lerp{} : table::periodic(table::azimuth(h.x, h.y) / kTwoPi * d_phi, d_phi);
+    const table::Lerp row = equation::d_row(equation::u_of_theta_h(theta), d_theta);
+    const table::Lerp col = d_phi == 1 ? table::Lerp{} : equation::column(table::azimuth(h.x, h.y), d_phi);
     return bilinear(row, col, d_phi);
 }
 
 Bilinear g_position(const Dir& w, int g_theta, int g_phi) {
-    const table::Lerp row = table::extrapolated(table::polar(w.x, w.y, w.z) / kHalfPi * g_theta, g_theta);
-    const table::Lerp col = g_phi == 1 ? table::Lerp{} : table::periodic(table::azimuth(w.x, w.y) / kTwoPi * g_phi, g_phi);
+    const table::Lerp row = equation::g_row(table::polar(w.x, w.y, w.z), g_theta);
+    const table::Lerp col = g_phi == 1 ? table::Lerp{} : equation::column(table::azimuth(w.x, w.y), g_phi);
     return bilinear(row, col, g_phi);
 }
 
@@ -210,9 +211,9 @@ NpfModel transform_ndf(const NpfModel& in, const Mat3& given, const NdfTransform
     d2.cells = std::size_t(in.d_theta) * std::size_t(d_phi);
     d2.v.assign(C * d2.cells, 0.0);
     for (int i = 0; i < in.d_theta; ++i) {
-        const double u = (i + 0.5) / in.d_theta, theta = kHalfPi * u * u;
+        const double theta = equation::theta_h_centre(i, in.d_theta);
         for (int j = 0; j < d_phi; ++j) {
-            const double phi = d_phi == 1 ? 0.0 : kTwoPi * (j + 0.5) / d_phi;
+            const double phi = d_phi == 1 ? 0.0 : equation::phi_centre(j, d_phi);
             const Dir h{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
             const Dir q = times(m_inv, h);
             const double len = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
@@ -248,9 +249,9 @@ NpfModel transform_ndf(const NpfModel& in, const Mat3& given, const NdfTransform
     g2.cells = std::size_t(in.g_theta) * std::size_t(g_phi);
     g2.v.assign(C * g2.cells, 0.0);
     for (int i = 0; i < in.g_theta; ++i) {
-        const double theta = kHalfPi * (i + 0.5) / in.g_theta;
+        const double theta = equation::theta_centre(i, in.g_theta);
         for (int j = 0; j < g_phi; ++j) {
-            const double phi = g_phi == 1 ? 0.0 : kTwoPi * (j + 0.5) / g_phi;
+            const double phi = g_phi == 1 ? 0.0 : equation::phi_centre(j, g_phi);
             const Dir w{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
             const Dir q = times(mt, w);
             const double len = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);

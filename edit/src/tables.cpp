@@ -5,6 +5,7 @@
 #include <npf/converter/fit/npf_factors.h>
 #include <npf/converter/fit/spectral_compression.h>
 #include <npf/core/vec.h>
+#include <npf/shading/npf_equation.h>
 
 #include <algorithm>
 #include <cmath>
@@ -72,7 +73,7 @@ std::vector<double> projected_areas(const Tables& d, int d_theta, int d_phi) {
     std::vector<double> cell(std::size_t(d_theta) * std::size_t(d_phi));
     const double du = 1.0 / d_theta, dphi = 2.0 * kPiD / d_phi;
     for (int i = 0; i < d_theta; ++i) {
-        const double u = (i + 0.5) * du, th = 0.5 * kPiD * u * u;
+        const double u = (i + 0.5) * du, th = equation::theta_h_of_u(u);
         const double w = std::cos(th) * std::sin(th) * kPiD * u * du * dphi;
         for (int j = 0; j < d_phi; ++j) cell[std::size_t(i) * std::size_t(d_phi) + std::size_t(j)] = w;
     }

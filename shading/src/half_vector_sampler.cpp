@@ -3,6 +3,7 @@
 #include "luminance.h"
 
 #include <npf/core/error.h>
+#include <npf/shading/npf_equation.h>
 #include <npf/shading/npf_model.h>
 #include <npf/shading/table_interpolation.h>
 
@@ -11,9 +12,8 @@
 
 namespace npf {
 
-namespace {
-constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
-}
+using equation::kHalfPi;
+using equation::kTwoPi;
 
 HalfVectorSampler::HalfVectorSampler(const std::vector<double>& d_bar, int d_theta, int d_phi)
     : m_theta(d_theta), m_phi(d_phi) {
@@ -22,7 +22,7 @@ HalfVectorSampler::HalfVectorSampler(const std::vector<double>& d_bar, int d_the
     }
     m_half_sin2.resize(std::size_t(d_theta) + 1);
     for (int k = 0; k <= d_theta; ++k) {
-        const double u = double(k) / d_theta, theta = kHalfPi * u * u, s = std::sin(0.5 * theta);
+        const double theta = equation::theta_h_of_u(double(k) / d_theta), s = std::sin(0.5 * theta);
         m_half_sin2[std::size_t(k)] = s * s;
     }
     const double d_phi_width = kTwoPi / d_phi;
@@ -31,7 +31,7 @@ HalfVectorSampler::HalfVectorSampler(const std::vector<double>& d_bar, int d_the
     for (int k = 0; k < d_theta; ++k) {
         const double omega = 2.0 * (m_half_sin2[std::size_t(k) + 1] - m_half_sin2[std::size_t(k)]) * d_phi_width;
         m_inv_solid_angle[std::size_t(k)] = 1.0 / omega;
-        const double u = (k + 0.5) / d_theta, cos_centre = std::cos(kHalfPi * u * u);
+        const double cos_centre = std::cos(equation::theta_h_centre(k, d_theta));
         for (int j = 0; j < d_phi; ++j) {
             const std::size_t cell = std::size_t(k) * std::size_t(d_phi) + std::size_t(j);
             const double v = d_bar[cell];
@@ -69,7 +69,7 @@ Vec3 HalfVectorSampler::sample(float u1, float u2) const {
 double HalfVectorSampler::pdf(const Vec3& h) const {
     if (!(h.z > 0.f)) return 0.0;
     const double theta = table::polar(h.x, h.y, h.z);
-    return pdf(theta, std::sqrt(theta / kHalfPi), table::azimuth(h.x, h.y));
+    return pdf(theta, equation::u_of_theta_h(theta), table::azimuth(h.x, h.y));
 }
 
 double HalfVectorSampler::pdf(double theta, double u, double phi) const {

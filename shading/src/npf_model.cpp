@@ -1,6 +1,7 @@
 #include <npf/shading/npf_model.h>
 
 #include <npf/core/error.h>
+#include <npf/shading/npf_equation.h>
 #include <npf/shading/table_interpolation.h>
 
 #include <algorithm>
@@ -11,14 +12,7 @@ namespace npf {
 
 namespace {
 
-constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
-// Multiplications by these rather than divisions: the hot path has a dozen of them per pair.
-constexpr double kInvHalfPi = 1.0 / kHalfPi, kInvTwoPi = 1.0 / kTwoPi;
-
 using table::Lerp;
-using table::clamped;
-using table::periodic;
-using table::extrapolated;
 using table::polar;
 using table::azimuth;
 using table::bilinear;
@@ -26,9 +20,9 @@ using table::bilinear;
 // G's cell position for one direction.
 NpfModel::Lookup::Bilinear g_position(double x, double y, double z, int g_theta, int g_phi, double& row,
                                       double& col) {
-    const Lerp r = extrapolated(polar(x, y, z) * kInvHalfPi * g_theta, g_theta);
+    const Lerp r = equation::g_row(polar(x, y, z), g_theta);
     // An isotropic table has one column: no azimuth to compute.
-    const Lerp c = g_phi == 1 ? Lerp{} : periodic(azimuth(x, y) * kInvTwoPi * g_phi, g_phi);
+    const Lerp c = g_phi == 1 ? Lerp{} : equation::column(azimuth(x, y), g_phi);
     row = r.i0 + r.t;
     col = c.i0 + c.t;
     return bilinear(r, c, g_phi);
@@ -133,7 +127,7 @@ double NpfModel::g_at_horizon(std::size_t c, int column) const {
     if (g_theta < 2) return G.at(c, std::size_t(column));
     const std::size_t last = std::size_t(g_theta - 1) * std::size_t(g_phi) + std::size_t(column);
     const std::size_t prev = std::size_t(g_theta - 2) * std::size_t(g_phi) + std::size_t(column);
-    return 1.5 * G.at(c, last) - 0.5 * G.at(c, prev);
+    return equation::g_at_horizon(G.at(c, last), G.at(c, prev));
 }
 
 bool NpfModel::g_open_at_horizon() const {
@@ -158,9 +152,9 @@ int NpfModel::close_g_at_horizon() {
         for (std::size_t c = 0; c < channel_count(); ++c) {
             if (!(rho_s[c] > 0.f) || !(g_at_horizon(c, j) > 0.0)) continue;
             const double g_last = G.at(c, last), g_prev = G.at(c, prev);
-            // G_last s = G_prev / 3 puts the line's end at 0; a hair below, so that float
-            // rounding of the scaled basis cannot leave it above.
-            scale = std::min(scale, g_last > 0.0 ? std::max(0.0, g_prev / (3.0 * g_last)) * (1.0 - 1e-6) : 0.0);
+            // A hair below the closing scale, so that float rounding of the scaled basis cannot
+            // leave the line's end above 0.
+            scale = std::min(scale, equation::g_closing_scale(g_last, g_prev) * (1.0 - 1e-6));
         }
         if (scale < 1.0) {
             for (int k = 0; k < G.rank; ++k) G.basis[std::size_t(k) * G.cells + last] *= float(scale);
@@ -239,7 +233,7 @@ bool NpfModel::half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const 
     h.cos_o = wo.z;
     h.theta_h = table::polar_of(std::sqrt(r2), hz);
     h.phi_h = d_phi == 1 ? 0.0 : azimuth(hx, hy);
-    h.u_h = std::sqrt(h.theta_h * kInvHalfPi);
+    h.u_h = equation::u_of_theta_h(h.theta_h);
     h.cos_d = (ix * hx + iy * hy + iz * hz) / std::sqrt(r2 + hz * hz);
     return true;
 }
@@ -262,12 +256,12 @@ bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_
     at.phi_h = h.phi_h;
     at.u_h = h.u_h;
     at.cos_d = h.cos_d;
-    const Lerp d_row = clamped(at.u_h * d_theta, d_theta);
-    const Lerp d_col = periodic(phi_h * kInvTwoPi * d_phi, d_phi);
+    const Lerp d_row = equation::d_row(at.u_h, d_theta);
+    const Lerp d_col = equation::column(phi_h, d_phi);
     at.d_row = d_row.i0 + d_row.t;
     at.d_col = d_col.i0 + d_col.t;
     at.d = bilinear(d_row, d_col, d_phi);
-    const Lerp f = clamped(theta_d * kInvHalfPi * f_theta, f_theta);
+    const Lerp f = equation::f_row(theta_d, f_theta);
     at.f0 = f.i0;
     at.f1 = f.i1;
     at.f_t = f.t;
@@ -295,10 +289,9 @@ double NpfModel::value_uncached(const Lookup& at, std::size_t c) const {
     const double go = combine_direct(G, c, at.g_o);
     const float* f = F.data() + c * std::size_t(f_theta);
     const double fv = f[at.f0] * (1 - at.f_t) + f[at.f1] * at.f_t;
-    const double base = rho_d[c] + rho_s[c] * d * fv * gi * go * at.inv_cos_product;
+    const double base = equation::value(rho_d[c], rho_s[c], d, fv, gi, go, at.inv_cos_product);
     if (detail.rank == 0) return base;
-    const double v = base + combine_detail(detail, c, at.r);
-    return v > 0.0 ? v : 0.0;
+    return equation::with_detail(base, combine_detail(detail, c, at.r));
 }
 
 void NpfModel::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {

@@ -1,6 +1,7 @@
 #include "texture_tables.h"
 
 #include <npf/core/error.h>
+#include <npf/shading/npf_equation.h>
 #include <npf/shading/npf_texture_file.h>
 #include <npf/shading/npf_texture_layout.h>
 
@@ -116,10 +117,11 @@ bool NpfClosure::TextureTables::lookup_g(double row, double col, int rank, doubl
     float a[NpfModel::kInlineRank], b[NpfModel::kInlineRank];
     const double last = m_g_theta - 1;
     if (m_g_theta > 1 && row > last) {
-        // Beyond the last centre: the line through the last two rows.
+        // Beyond the last centre: G's horizon rule (npf_equation.h) on every basis table, which
+        // is linear, so it commutes with the recombination.
         if (!lookup(m_g_opt, last, col, rank, a) || !lookup(m_g_opt, last - 1.0, col, rank, b)) return false;
         const double x = row - last;
-        for (int k = 0; k < rank; ++k) out[k] = a[k] + x * (double(a[k]) - double(b[k]));
+        for (int k = 0; k < rank; ++k) out[k] = equation::g_beyond_last_row(a[k], b[k], x);
         return true;
     }
     if (!lookup(m_g_opt, row, col, rank, a)) return false;

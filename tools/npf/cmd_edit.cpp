@@ -6,7 +6,6 @@
 #include "progress.h"
 
 #include <npf/color/spectrum.h>
-#include <npf/converter/npf_texture_writer.h>
 #include <npf/core/error.h>
 #include <npf/edit/recipe.h>
 #include <npf/shading/npf_texture_file.h>

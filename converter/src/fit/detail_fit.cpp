@@ -6,6 +6,7 @@
 #include <npf/converter/fit/rusinkiewicz.h>
 #include <npf/converter/fit/spectral_compression.h>
 #include <npf/core/error.h>
+#include <npf/shading/npf_equation.h>
 
 #include <Imath/half.h>
 
@@ -68,7 +69,7 @@ namespace fit_detail {
 HalfDiff DetailSystem::sample_angles(std::size_t a, int b, int c, int e) const {
     HalfDiff hd;
     hd.theta_h = theta_h.angle[a];
-    hd.phi_h = phi_h_samples == 1 ? 0.0 : kTwoPi * (e + 0.5) / phi_h_samples;
+    hd.phi_h = phi_h_samples == 1 ? 0.0 : equation::phi_centre(e, phi_h_samples);
     hd.theta_d = theta_d.angle[std::size_t(b)];
     hd.phi_d = phi_d.angle[std::size_t(c)];
     return hd;
@@ -218,18 +219,18 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
     sys.phi_h_samples = se;
     for (int a = 0; a < sh; ++a) {
         const double u = (a + 0.5) / sh;
-        ah.angle.push_back(kHalfPi * u * u);
+        ah.angle.push_back(equation::theta_h_of_u(u));
         ah.measure.push_back(kPiD * u / sh);  // d(theta_h) = pi u du
         ah.lerp.push_back(detail_position(g, u, 0.0, 0.0).h);
     }
     for (int b = 0; b < sd; ++b) {
-        const double td = kHalfPi * (b + 0.5) / sd;
+        const double td = equation::theta_centre(b, sd);
         ad.angle.push_back(td);
         ad.measure.push_back(kHalfPi / sd);
         ad.lerp.push_back(detail_position(g, 0.0, td, 0.0).d);
     }
     for (int c = 0; c < sp; ++c) {
-        const double pd = kTwoPi * (c + 0.5) / sp;
+        const double pd = equation::phi_centre(c, sp);
         ap.angle.push_back(pd);
         ap.measure.push_back(kTwoPi / sp);
         ap.lerp.push_back(detail_position(g, 0.0, 0.0, pd).p);
@@ -428,7 +429,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
                 const double st = std::sin(views[v]), ct = std::cos(views[v]);
                 const Vec3d wi{st * std::cos(view_azimuths[v]), st * std::sin(view_azimuths[v]), ct};
                 for (int a = 0; a < kU; ++a) {
-                    const double u = (a + 0.5) / kU, theta_h = kHalfPi * u * u;
+                    const double u = (a + 0.5) / kU, theta_h = equation::theta_h_of_u(u);
                     const double dtheta = kPiD * u / kU, sh_ = std::sin(theta_h), ch_ = std::cos(theta_h);
                     for (int b = 0; b < kPhi; ++b) {
                         const double phi = kTwoPi * (b + 0.5) / kPhi;
@@ -449,7 +450,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
                             albedo_base[v * C + ch] += q * base[ch];
                         }
                         const HalfDiff hd = half_diff_from_directions(wi, wo);
-                        const DetailPosition at = detail_position(g, std::sqrt(hd.theta_h / kHalfPi), hd.theta_d,
+                        const DetailPosition at = detail_position(g, equation::u_of_theta_h(hd.theta_h), hd.theta_d,
                                                                   hd.phi_d);
                         const Trilinear t = trilinear(g, at);
                         for (int j = 0; j < 8; ++j) rows[v][t.index[j]] += q * t.weight[j];

@@ -1,6 +1,7 @@
 #include <npf/converter/fit/npf_factors.h>
 
 #include <npf/core/vec.h>
+#include <npf/shading/npf_equation.h>
 #include <npf/shading/table_interpolation.h>
 
 #include <algorithm>
@@ -10,11 +11,7 @@ namespace npf {
 
 namespace {
 
-constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
-
 using table::Lerp;
-using table::clamped;
-using table::periodic;
 
 double table2(const float* t, int cols, const Lerp& r, const Lerp& c) {
     const double a = t[r.i0 * cols + c.i0] * (1 - c.t) + t[r.i0 * cols + c.i1] * c.t;
@@ -30,18 +27,16 @@ double NpfFactors::eval(std::size_t c, const Vec3d& wi, const Vec3d& wo) const {
     const float* d = D.data() + c * d_size();
     const float* f = F.data() + c * std::size_t(grid.theta_d);
     const float* g = G.data() + c * g_size();
-    const double u = std::sqrt(a.theta_h / kHalfPi);
-    const double dv = table2(d, grid.phi_h, clamped(u * grid.theta_h, grid.theta_h),
-                             periodic(a.phi_h / kTwoPi * grid.phi_h, grid.phi_h));
-    const Lerp fl = clamped(a.theta_d / kHalfPi * grid.theta_d, grid.theta_d);
+    // The stored model's axes and horizon rule (npf_equation.h), on full per-channel tables.
+    const double dv = table2(d, grid.phi_h, equation::d_row(equation::u_of_theta_h(a.theta_h), grid.theta_h),
+                             equation::column(a.phi_h, grid.phi_h));
+    const Lerp fl = equation::f_row(a.theta_d, grid.theta_d);
     const double fv = f[fl.i0] * (1 - fl.t) + f[fl.i1] * fl.t;
-    // G: bilinear on its cell centres, extrapolated towards the horizon (table::extrapolated).
     auto gv = [&](const Vec3d& w) {
-        const Lerp row = table::extrapolated(table::polar(w.x, w.y, w.z) / kHalfPi * g_theta, g_theta);
-        const Lerp col = periodic(table::azimuth(w.x, w.y) / kTwoPi * g_phi, g_phi);
-        return std::max(0.0, table2(g, g_phi, row, col));
+        return table2(g, g_phi, equation::g_row(table::polar(w.x, w.y, w.z), g_theta),
+                      equation::column(table::azimuth(w.x, w.y), g_phi));
     };
-    return rho_d[c] + rho_s[c] * dv * fv * gv(wi) * gv(wo) / (wi.z * wo.z);
+    return equation::value(rho_d[c], rho_s[c], dv, fv, gv(wi), gv(wo), 1.0 / (wi.z * wo.z));
 }
 
 }  // namespace npf

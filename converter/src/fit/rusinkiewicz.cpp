@@ -1,6 +1,7 @@
 #include <npf/converter/fit/rusinkiewicz.h>
 
 #include <npf/core/vec.h>
+#include <npf/shading/npf_equation.h>
 
 #include <cmath>
 
@@ -53,16 +54,14 @@ void directions_from_half_diff(const HalfDiff& a, Vec3d& wi, Vec3d& wo) {
     wo = {k * h.x - wi.x, k * h.y - wi.y, k * h.z - wi.z};
 }
 
-double RusinkiewiczGrid::theta_h_at(int k) const {
-    const double u = (k + 0.5) / theta_h;
-    return kHalfPi * u * u;
-}
+// The fitter samples at the stored tables' cell centres (npf_equation.h).
+double RusinkiewiczGrid::theta_h_at(int k) const { return equation::theta_h_centre(k, theta_h); }
 
-double RusinkiewiczGrid::phi_h_at(int k) const { return isotropic() ? 0.0 : kTwoPi * (k + 0.5) / phi_h; }
+double RusinkiewiczGrid::phi_h_at(int k) const { return isotropic() ? 0.0 : equation::phi_centre(k, phi_h); }
 
-double RusinkiewiczGrid::theta_d_at(int k) const { return kHalfPi * (k + 0.5) / theta_d; }
+double RusinkiewiczGrid::theta_d_at(int k) const { return equation::theta_centre(k, theta_d); }
 
-double RusinkiewiczGrid::phi_d_at(int k) const { return kTwoPi * (k + 0.5) / phi_d; }
+double RusinkiewiczGrid::phi_d_at(int k) const { return equation::phi_centre(k, phi_d); }
 
 double RusinkiewiczGrid::volume_weight(int theta_h_index, int theta_d_index) const {
     const double u = (theta_h_index + 0.5) / theta_h;

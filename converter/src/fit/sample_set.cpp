@@ -4,6 +4,7 @@
 
 #include <npf/core/error.h>
 #include <npf/core/vec.h>
+#include <npf/shading/npf_equation.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,14 +15,13 @@ namespace {
 
 constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
 
-int g_theta_cell(double z, int n) {
-    const double theta = std::acos(std::clamp(z, -1.0, 1.0));
-    return std::min(int(theta / kHalfPi * n), n - 1);
-}
+int g_theta_cell(double z, int n) { return equation::g_owner_row(std::acos(std::clamp(z, -1.0, 1.0)), n); }
 
-// The theta neighbour of a direction's owner G cell and its interpolation weight.
+// The theta neighbour of a direction's owner G cell and its interpolation weight: linear between
+// the two rows, and beyond the last centre the line through the last two rows (G's horizon rule,
+// npf_equation.h).
 void g_theta_neighbour(double z, int n, int owner_row, int& neighbour_row, float& weight) {
-    const double x = std::acos(std::clamp(z, -1.0, 1.0)) / kHalfPi * n - 0.5;  // in cell-centre units
+    const double x = equation::theta_cells(std::acos(std::clamp(z, -1.0, 1.0)), n) - 0.5;  // centres at integers
     const double d = x - owner_row;
     if (d >= 0.0) {
         neighbour_row = owner_row + 1 < n ? owner_row + 1 : owner_row - 1;
@@ -36,7 +36,7 @@ int g_phi_cell(double x, double y, int n) {
     if (n == 1) return 0;
     double phi = std::atan2(y, x);
     if (phi < 0.0) phi += kTwoPi;
-    return std::min(int(phi / kTwoPi * n), n - 1);
+    return std::min(int(phi * equation::kInvTwoPi * n), n - 1);
 }
 
 // A fixed pseudo-random rotation in [0, 1) per ring: stratified phi_d samples whose positions

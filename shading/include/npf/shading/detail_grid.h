@@ -14,6 +14,7 @@
 #pragma once
 
 #include <npf/core/vec.h>
+#include <npf/shading/npf_equation.h>
 #include <npf/shading/table_interpolation.h>
 
 #include <cstddef>
@@ -48,11 +49,11 @@ struct DetailPosition {
 };
 
 inline DetailPosition detail_position(const DetailGrid& g, double u_h, double theta_d, double phi_d) {
-    constexpr double kInvHalfPi = 2.0 / kPiD, kInvTwoPi = 0.5 / kPiD;
+    // The rows of D and F and a periodic column (npf_equation.h), over the residual's own grid.
     DetailPosition at;
-    at.h = table::clamped(u_h * g.theta_h, g.theta_h);
-    at.d = table::clamped(theta_d * kInvHalfPi * g.theta_d, g.theta_d);
-    at.p = table::periodic(phi_d * kInvTwoPi * g.phi_d, g.phi_d);
+    at.h = equation::d_row(u_h, g.theta_h);
+    at.d = equation::f_row(theta_d, g.theta_d);
+    at.p = equation::column(phi_d, g.phi_d);
     return at;
 }
 

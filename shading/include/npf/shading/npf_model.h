@@ -7,14 +7,15 @@
 // At full rank that is the fitted tables again (to float precision); at lower rank it is their
 // best approximation in the least-squares sense.
 //
-// Tables and their cell centres (the fitter's grid; the same conventions as NpfFactors::eval):
+// Tables and their cell centres (the axis maps and the horizon rule are npf_equation.h's, shared
+// with the fitter's NpfFactors::eval):
 //   D  [d_theta][d_phi]  theta_h = (pi/2) ((k + 1/2) / d_theta)^2   (square-root mapped)
 //                        phi_h   = 2 pi (k + 1/2) / d_phi           (d_phi = 1: isotropic)
 //   F  [f_theta]         theta_d = (pi/2) (k + 1/2) / f_theta
 //   G  [g_theta][g_phi]  theta   = (pi/2) (k + 1/2) / g_theta,  phi as for D
 // Values between centres are bilinear, phi is periodic, theta is clamped at the outer centres,
 // except beyond G's last theta centre: there G continues along the line through its last two
-// rows (never below 0), so that it can fall to 0 at grazing angles (NpfFactors::eval's rule).
+// rows (never below 0), so that it can fall to 0 at grazing angles.
 //
 // Detail layer (optional, format version 2): an additive residual r_c over (u_h, theta_d,
 // phi_d), stored like D and G as basis tables over its grid and per-channel weights
@@ -29,6 +30,7 @@
 #include <npf/core/channels.h>
 #include <npf/core/vec.h>
 #include <npf/shading/detail_grid.h>
+#include <npf/shading/npf_equation.h>
 #include <npf/shading/table_interpolation.h>
 
 #include <cstddef>
@@ -160,18 +162,14 @@ inline double NpfModel::value(const Lookup& at, std::size_t c) const {
         go += wg[k] * at.g_o_basis[k];
     }
     // The clamp at 0 applies to the interpolated, recombined tables (see above).
-    d = d > 0.0 ? d : 0.0;
-    gi = gi > 0.0 ? gi : 0.0;
-    go = go > 0.0 ? go : 0.0;
     const float* f = F.data() + c * std::size_t(f_theta);
     const double fv = f[at.f0] * (1 - at.f_t) + f[at.f1] * at.f_t;
-    const double base = rho_d[c] + rho_s[c] * d * fv * gi * go * at.inv_cos_product;
+    const double base = equation::value(rho_d[c], rho_s[c], d, fv, gi, go, at.inv_cos_product);
     if (detail.rank == 0) return base;
     const float* wr = detail.weights.data() + c * std::size_t(detail.rank);
     double r = 0.0;
     for (int k = 0; k < detail.rank; ++k) r += wr[k] * at.r_basis[k];
-    const double v = base + r;
-    return v > 0.0 ? v : 0.0;
+    return equation::with_detail(base, r);
 }
 
 }  // namespace npf

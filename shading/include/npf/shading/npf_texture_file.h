@@ -1,4 +1,5 @@
-// Reading NPF factor textures: the multi-part OpenEXR files of docs/format.md.
+// NPF factor textures, the multi-part OpenEXR files of docs/format.md: the one place they are
+// read and written (names: npf_texture_layout.h; the model they hold: npf_model.h).
 #pragma once
 
 #include <npf/shading/npf_model.h>
@@ -17,6 +18,12 @@ NpfModel read_npf_texture(const std::string& path);
 // The same, read through a TextureSystem's cache (headers with get_imagespec, pixels with
 // get_texels), for a renderer that shades the file through that TextureSystem afterwards.
 NpfModel read_npf_texture(const std::string& path, OIIO::TextureSystem& ts);
+
+// Writes `model` to `path` atomically (a temporary beside it, renamed into place): float pixels,
+// lossless ZIP compression, every array bit for bit. Throws npf::Error naming `path` when the
+// model is inconsistent (NpfModel::validate), a metadata key is empty, repeated or holds a
+// control character, or writing fails; no file appears under `path` then.
+void write_npf_texture(const NpfModel& model, const std::string& path);
 
 // A cheap sniff that never throws: true when `path` starts with the OpenEXR magic number and its
 // part "D" carries an integer npf:format_version (of any value; read_npf_texture judges it).

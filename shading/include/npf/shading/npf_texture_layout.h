@@ -49,6 +49,12 @@ constexpr const char* kAttrDetailKeptRatio = "npf:detail_kept_ratio";           
 constexpr const char* kAttrDetailSingularValues = "npf:detail_singular_values";  // string
 constexpr const char* kAttrMetadataKeys = "npf:metadata_keys";  // string, keys joined by '\n'
 constexpr const char* kMetadataPrefix = "npf:meta:";            // + key: string value
+// Metadata keys that npf reads back (the others are written for people: docs/format.md sec. 5).
+constexpr const char* kMetaAlbedoMax = "albedo_max";                        // edit --limit-albedo
+constexpr const char* kMetaAlbedoMaxViewTheta = "albedo_max_view_theta";
+constexpr const char* kMetaBatchName = "batch_name";                        // npf batch
+constexpr const char* kMetaBatchSettings = "batch_settings";
+constexpr const char* kMetaBatchHash = "batch_hash";                        // up to date?
 // Per part (informative; readers rely on the grid sizes above): what x and y index.
 constexpr const char* kAttrXAxis = "npf:x_axis";
 constexpr const char* kAttrYAxis = "npf:y_axis";

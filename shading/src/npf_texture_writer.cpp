@@ -1,5 +1,5 @@
 // The NPF factor texture writer (layout: docs/format.md, names: npf/shading/npf_texture_layout.h).
-#include <npf/converter/npf_texture_writer.h>
+#include <npf/shading/npf_texture_file.h>
 
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
