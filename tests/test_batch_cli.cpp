@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -240,8 +241,13 @@ TEST(BatchCli, EditsAndValidationRendersAreApplied) {
     for (const batch::MaterialResult& m : s.materials) {
         ASSERT_TRUE(m.psnr) << m.name;
         EXPECT_GT(*m.psnr, 15.0) << m.name;
+        // Every PSNR comes with its paired noise floor, which a real render never reaches
+        // infinity on (2 spp of environment sampling).
+        ASSERT_TRUE(m.psnr_floor) << m.name;
+        EXPECT_TRUE(std::isfinite(*m.psnr_floor) && *m.psnr_floor > 0.0) << m.name << " " << *m.psnr_floor;
         EXPECT_EQ(m.edits.size(), m.name == "rough" ? 1u : 0u) << m.name;
     }
+    EXPECT_TRUE(contains(r.out + r.err, "(noise floor ")) << describe(r);
     EXPECT_EQ(npf::testing::folder_entries(dir + "/out/renders"),
               (std::vector<std::string>{"glossy.npf.exr", "glossy.reference.exr", "rough.npf.exr", "rough.reference.exr"}));
     // Re-run: nothing to do, and the metrics come back from the files.
@@ -250,6 +256,8 @@ TEST(BatchCli, EditsAndValidationRendersAreApplied) {
     const batch::BatchSummary t = batch::read_summary_json(dir + "/out/batch-summary.json");
     EXPECT_EQ(t.count(batch::MaterialStatus::Skipped), 2u);
     EXPECT_DOUBLE_EQ(*t.materials[0].psnr, *s.materials[0].psnr);
+    ASSERT_TRUE(t.materials[0].psnr_floor);
+    EXPECT_DOUBLE_EQ(*t.materials[0].psnr_floor, *s.materials[0].psnr_floor);
     // A changed recipe redoes its material only.
     npf::testing::write_text(dir + "/rotate.yaml", "steps:\n  - rotate: 45\n");
     ASSERT_EQ(batch_run({cfg}).status, 0);

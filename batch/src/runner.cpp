@@ -164,6 +164,7 @@ void fill_from_header(MaterialResult& r, const std::map<std::string, std::string
 
 void fill_from_render_header(MaterialResult& r, const std::map<std::string, std::string>& h) {
     r.psnr = attr_number(h, "npf:batch_psnr");
+    r.psnr_floor = attr_number(h, "npf:batch_psnr_floor");
     r.ssim = attr_number(h, "npf:batch_ssim");
     r.relmse = attr_number(h, "npf:batch_relmse");
 }
@@ -345,7 +346,8 @@ BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
             if (check.enabled) {
                 const std::string env = check.env.empty() ? render::default_environment_map_path() : check.env;
                 render_hash = sha256_hex(r.hash + "\nrender size=" + std::to_string(check.size) + " spp=" +
-                                         std::to_string(check.spp) + " seed=" + std::to_string(check.seed) + "\nenv " +
+                                         std::to_string(check.spp) + " seed=" + std::to_string(check.seed) +
+                                         " sampling=env floor=paired\nenv " +
                                          sha256_file(env) + "\n");
                 render_header = header_of(render_file(job, "npf"), false);
             }
@@ -382,16 +384,27 @@ BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
                 const std::string env_path = check.env.empty() ? render::default_environment_map_path() : check.env;
                 auto it = environments.find(env_path);
                 if (it == environments.end()) it = environments.emplace(env_path, render::EnvironmentMap::load(env_path)).first;
+                // Paired (docs/metrics.md sec. 5): environment sampling only at one seed, so both
+                // images are estimated at the same light directions; the pair again at the next
+                // seed gives the PSNR's noise floor.
                 render::RenderOptions ro;
                 ro.width = ro.height = check.size;
                 ro.spp = check.spp;
                 ro.seed = check.seed;
                 ro.threads = check.threads;
-                const render::RenderResult reference = render::render(*source, it->second, ro);
+                ro.sampling = render::Sampling::Environment;
                 const std::unique_ptr<Brdf> fitted = open_brdf(job.output);
+                const render::RenderResult reference = render::render(*source, it->second, ro);
                 const render::RenderResult test = render::render(*fitted, it->second, ro);
+                render::RenderOptions ro2 = ro;
+                ro2.seed = check.seed + 1;
+                const render::RenderResult reference2 = render::render(*source, it->second, ro2);
+                const render::RenderResult test2 = render::render(*fitted, it->second, ro2);
                 const render::ImageMetrics metrics = render::compare_images(reference.image, test.image, {}, "reference", "npf");
+                const render::NoiseFloor floor =
+                    render::paired_noise_floor(reference.image, test.image, reference2.image, test2.image, {}, "reference", "npf");
                 r.psnr = metrics.psnr, r.ssim = metrics.ssim, r.relmse = metrics.relmse;
+                r.psnr_floor = floor.psnr;
                 fs::create_directories(fs::path(job.output).parent_path() / "renders", ec);
                 render::RenderMetadata ref_meta = render::describe_render(reference, ro, it->second);
                 ref_meta.insert(ref_meta.begin(), {"npf:material", job.input});
@@ -400,6 +413,7 @@ BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
                 npf_meta.insert(npf_meta.begin(), {"npf:material", job.output});
                 npf_meta.emplace_back("npf:batch_hash", render_hash);
                 npf_meta.emplace_back("npf:batch_psnr", fmt("%.9g", metrics.psnr));
+                npf_meta.emplace_back("npf:batch_psnr_floor", fmt("%.9g", floor.psnr));
                 npf_meta.emplace_back("npf:batch_ssim", fmt("%.9g", metrics.ssim));
                 npf_meta.emplace_back("npf:batch_relmse", fmt("%.9g", metrics.relmse));
                 const std::string ref_stage = (fs::path(stage) / (job.name + ".reference.exr")).string();
@@ -426,7 +440,10 @@ BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
             if (r.output_bytes) line += ", " + fmt("%.3f MB", double(r.output_bytes) / 1e6);
             if (r.ratio()) line += " (1/" + fmt("%.1f", *r.ratio()) + ")";
             if (r.error_mean) line += ", error " + fmt("%.2f %%", 100.0 * *r.error_mean);
-            if (r.psnr) line += ", PSNR " + fmt("%.2f dB", *r.psnr);
+            if (r.psnr) {
+                line += ", PSNR " + fmt("%.2f dB", *r.psnr);
+                if (r.psnr_floor) line += " (noise floor " + fmt("%.2f dB", *r.psnr_floor) + ")";
+            }
             if (!r.reason.empty()) line += " (" + r.reason + ")";
         }
         log(line);

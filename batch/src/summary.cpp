@@ -95,7 +95,8 @@ std::string summary_json(const BatchSummary& s) {
         j += ", \"fitted_error_rel_rms_mean\": " + opt(m.fitted_error_mean) +
              ", \"fitted_error_rel_rms_max\": " + opt(m.fitted_error_max);
         j += ", \"albedo_max\": " + opt(m.albedo_max);
-        j += ", \"psnr\": " + opt(m.psnr) + ", \"ssim\": " + opt(m.ssim) + ", \"relmse\": " + opt(m.relmse);
+        j += ", \"psnr\": " + opt(m.psnr) + ", \"psnr_floor\": " + opt(m.psnr_floor) + ", \"ssim\": " + opt(m.ssim) +
+             ", \"relmse\": " + opt(m.relmse);
         j += ", \"edits\": [";
         for (std::size_t e = 0; e < m.edits.size(); ++e) j += (e ? ", " : "") + json_string(m.edits[e]);
         j += "], \"hash\": " + json_string(m.hash) + "}";
@@ -119,14 +120,15 @@ std::string summary_markdown(const BatchSummary& s) {
     md += "- wall time: " + fixed(s.seconds, 2) + " s\n";
     md += std::string("- result: ") + (s.ok() ? "**ok**" : "**some materials failed**") + "\n";
     for (const std::string& w : s.warnings) md += "- warning: " + cell(w) + "\n";
-    md += "\n| material | status | time (s) | input (MB) | output (MB) | ratio | error mean / worst (%) | PSNR (dB) | SSIM | note |\n";
-    md += "|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
+    md += "\n| material | status | time (s) | input (MB) | output (MB) | ratio | error mean / worst (%) | PSNR (dB) | noise floor (dB) | SSIM | note |\n";
+    md += "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
     for (const MaterialResult& m : s.materials) {
         md += "| " + cell(m.name) + " | " + status_name(m.status) + " | " + fixed(m.seconds, 2) + " | ";
         md += (m.input_bytes ? megabytes(m.input_bytes) : "-") + " | " + (m.output_bytes ? megabytes(m.output_bytes) : "-") + " | ";
         md += (m.ratio() ? "1/" + fixed(*m.ratio(), 1) : "-") + " | ";
         md += (m.error_mean ? fixed(100.0 * *m.error_mean, 2) + " / " + fixed(100.0 * m.error_max.value_or(0.0), 2) : "-") + " | ";
         md += (m.psnr ? (std::isfinite(*m.psnr) ? fixed(*m.psnr, 2) : "inf") : "-") + " | ";
+        md += (m.psnr_floor ? (std::isfinite(*m.psnr_floor) ? fixed(*m.psnr_floor, 2) : "inf") : "-") + " | ";
         md += (m.ssim ? fixed(*m.ssim, 4) : "-") + " | ";
         std::string note = m.reason;
         if (!m.edits.empty()) note += (note.empty() ? "" : "; ") + std::to_string(m.edits.size()) + " edit(s)";
@@ -184,6 +186,7 @@ BatchSummary read_summary_json(const std::string& path) {
             m.fitted_error_max = optional(n["fitted_error_rel_rms_max"]);
             m.albedo_max = optional(n["albedo_max"]);
             m.psnr = optional(n["psnr"]);
+            m.psnr_floor = optional(n["psnr_floor"]);
             m.ssim = optional(n["ssim"]);
             m.relmse = optional(n["relmse"]);
             for (const YAML::Node& e : n["edits"]) m.edits.push_back(e.as<std::string>());

@@ -26,8 +26,9 @@ struct MaterialResult {
     // The largest directional albedo of the output (npf convert's energy check); above 1 the
     // conversion reflects more light than it receives somewhere.
     std::optional<double> albedo_max;
-    // Validation render of the output against one of the input (render: true).
-    std::optional<double> psnr, ssim, relmse;
+    // Validation render of the output against one of the input (render: true), paired, and the
+    // PSNR's paired noise floor (the same pair at the next seed).
+    std::optional<double> psnr, ssim, relmse, psnr_floor;
     std::vector<std::string> edits;  // edit history entries the batch added
     // input_bytes / output_bytes (how many times smaller the output is), when both are known.
     std::optional<double> ratio() const;
