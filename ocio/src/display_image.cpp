@@ -36,6 +36,17 @@ FloatImage read_scene_image(const std::string& path) {
                               " channel(s); a scene image needs three (RGB or XYZ)");
     if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1)
         throw Error(path, "not a 2D image");
+    // The colour channels are the first three that are not alpha: an R, G, A image has two
+    // colour channels and is refused, rather than its alpha read as blue.
+    int colour[3], found = 0;
+    for (int c = 0; c < spec.nchannels && found < 3; ++c) {
+        if (c != spec.alpha_channel) colour[found++] = c;
+    }
+    if (found < 3) {
+        std::string names;
+        for (int c = 0; c < spec.nchannels; ++c) names += (c ? ", " : "") + std::string(spec.channel_name(c));
+        throw Error(path, "has channels " + names + ": a scene image needs three colour channels (RGB or XYZ) besides alpha");
+    }
     const std::size_t width = static_cast<std::size_t>(spec.width), height = static_cast<std::size_t>(spec.height);
     const std::size_t all = static_cast<std::size_t>(spec.nchannels);
     std::vector<float> file_pixels(width * height * all);
@@ -45,13 +56,13 @@ FloatImage read_scene_image(const std::string& path) {
     FloatImage image;
     image.width = width;
     image.height = height;
-    const bool alpha = spec.alpha_channel >= 3;
+    const bool alpha = spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels;
     image.channels = alpha ? 4 : 3;
     image.pixels.resize(width * height * static_cast<std::size_t>(image.channels));
     for (std::size_t p = 0; p < width * height; ++p) {
         const float* src = &file_pixels[p * all];
         float* dst = &image.pixels[p * static_cast<std::size_t>(image.channels)];
-        dst[0] = src[0], dst[1] = src[1], dst[2] = src[2];
+        dst[0] = src[colour[0]], dst[1] = src[colour[1]], dst[2] = src[colour[2]];
         if (alpha) dst[3] = src[spec.alpha_channel];
     }
     return image;
