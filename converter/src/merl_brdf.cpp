@@ -26,9 +26,9 @@ constexpr int kChannelCount = 3;
 constexpr double kChannelScale[kChannelCount] = {kMerlScaleRed, kMerlScaleGreen,
                                                  kMerlScaleBlue};
 constexpr const char* kChannelName[kChannelCount] = {"R", "G", "B"};
-// Larger f_r would overflow float once multiplied by pi (sample weights); no real material
-// comes near it, so such a value means a corrupt file.
-constexpr double kMaxAbsFr = 1e30;
+// The largest table a MERL file may hold: 1 GiB of doubles, thirty times the standard
+// 90 x 90 x 180 (35 MB), checked before anything is allocated.
+constexpr std::uint64_t kMaxTableBytes = std::uint64_t(1) << 30;
 
 std::uint32_t read_le32(const std::uint8_t* p) {
     return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
@@ -79,6 +79,10 @@ std::string check_dims(std::int64_t n_th, std::int64_t n_td, std::int64_t n_pd,
     if (a > max_bins / b || a * b > max_bins / c)
         return "bad dimensions " + dims_text(n_th, n_td, n_pd) +
                " (theta_h x theta_d x phi_d): the table would be too large";
+    if (a * b * c > kMaxTableBytes / (kChannelCount * sizeof(double)))
+        return "bad dimensions " + dims_text(n_th, n_td, n_pd) + " (theta_h x theta_d x phi_d): the table would hold " +
+               std::to_string(a * b * c * kChannelCount * sizeof(double)) + " bytes, more than the " +
+               std::to_string(kMaxTableBytes >> 20) + " MiB a MERL file may hold";
     file_bytes = kHeaderBytes + a * b * c * kChannelCount * sizeof(double);
     return {};
 }
@@ -219,6 +223,11 @@ bool all_finite(const Vec3& v) {
 
 // ---- Loading -----------------------------------------------------------------------------
 
+bool MerlBrdf::has_standard_header(const std::uint8_t* head, std::size_t head_size) {
+    return head != nullptr && head_size >= kHeaderBytes && read_le_int32(head) == 90 && read_le_int32(head + 4) == 90 &&
+           read_le_int32(head + 8) == 180;
+}
+
 bool MerlBrdf::looks_like_merl(const std::uint8_t* head, std::size_t head_size,
                                std::uint64_t file_size) {
     if (head == nullptr || head_size < kHeaderBytes) return false;
@@ -288,7 +297,7 @@ std::unique_ptr<MerlBrdf> MerlBrdf::load(const std::string& path, MerlOptions op
             const double stored = channel[i];
             // The same product as the reference reader (brdf[ind] * SCALE), done once here.
             const double value = stored * kChannelScale[c];
-            if (!std::isfinite(stored) || std::fabs(value) > kMaxAbsFr) {
+            if (!std::isfinite(stored) || std::fabs(value) > kMaxMaterialValue) {
                 const std::size_t ipd = i % n_pd, itd = (i / n_pd) % n_td,
                                   ith = i / (static_cast<std::size_t>(n_pd) * n_td);
                 throw Error(path, std::string(std::isfinite(stored) ? "out-of-range value "

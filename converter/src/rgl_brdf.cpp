@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 namespace npf {
@@ -162,13 +163,26 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
 
     // A density and a projected area cannot be negative; the reference readers do not check,
     // but a negative value here would flip the sign of f_r after the channel clamp.
-    auto non_negative = [&](const TensorField& f) {
-        std::vector<float> v = file.to_float(f);
+    // Every table: finite, and within kMaxMaterialValue (a finite but absurd value would turn
+    // into infinities downstream, in sums and squares).
+    auto bounded = [&](const TensorField& f, std::vector<float> v) {
         for (std::size_t i = 0; i < v.size(); ++i) {
             if (!std::isfinite(v[i])) {
                 throw Error(src, "field '" + f.name + "' holds a non-finite value (" + std::to_string(v[i]) +
                                      ") at index " + std::to_string(i));
             }
+            if (std::fabs(v[i]) > kMaxMaterialValue) {
+                char text[32];
+                std::snprintf(text, sizeof text, "%g", double(v[i]));
+                throw Error(src, "field '" + f.name + "' holds an out-of-range value (" + text + ") at index " +
+                                     std::to_string(i));
+            }
+        }
+        return v;
+    };
+    auto non_negative = [&](const TensorField& f) {
+        std::vector<float> v = bounded(f, file.to_float(f));
+        for (std::size_t i = 0; i < v.size(); ++i) {
             if (v[i] < 0.f) {
                 throw Error(src, "field '" + f.name + "' holds a negative value (" + std::to_string(v[i]) +
                                      ") at index " + std::to_string(i));
@@ -179,21 +193,16 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
     b->m_ndf = PiecewiseLinear2D(ndf.shape[1], ndf.shape[0], 1, non_negative(ndf), false, src + ": field 'ndf'");
     b->m_sigma = PiecewiseLinear2D(sigma.shape[1], sigma.shape[0], 1, non_negative(sigma), false,
                                    src + ": field 'sigma'");
-    b->m_vndf = PiecewiseLinear2D(vndf.shape[3], vndf.shape[2], nP * nT, file.to_float(vndf), true,
+    b->m_vndf = PiecewiseLinear2D(vndf.shape[3], vndf.shape[2], nP * nT, bounded(vndf, file.to_float(vndf)), true,
                                   src + ": field 'vndf'");
-    b->m_luminance = PiecewiseLinear2D(lum.shape[3], lum.shape[2], nP * nT, file.to_float(lum), true,
+    b->m_luminance = PiecewiseLinear2D(lum.shape[3], lum.shape[2], nP * nT, bounded(lum, file.to_float(lum)), true,
                                        src + ": field 'luminance'");
     // Data tables are used at face value; only their finiteness is checked (validity of the
     // grid sizes is checked by the same constructor, on one slice's worth of shape).
     // Stored [slice][channel][H][W]; kept [slice][H][W][channel], so that the corners of one
     // direction pair hold every channel in a few contiguous cache lines (a spectral pair
     // otherwise touches a separate line per channel and corner).
-    const std::vector<float> stored = file.to_float(*data);
-    for (std::size_t i = 0; i < stored.size(); ++i) {
-        if (!std::isfinite(stored[i])) {
-            throw Error(src, "field '" + data->name + "' holds a non-finite value at index " + std::to_string(i));
-        }
-    }
+    const std::vector<float> stored = bounded(*data, file.to_float(*data));
     if (Hd < 2) throw Error(src, "field '" + data->name + "' data grid must be at least 2 x 2");
     const std::size_t channels = std::size_t(data->shape[2]), plane = std::size_t(Hd * Wd);
     b->m_data.resize(stored.size());

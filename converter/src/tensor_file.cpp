@@ -6,8 +6,13 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fstream>
+#include <limits>
 #include <sstream>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace npf {
 
@@ -108,9 +113,12 @@ const char* dtype_name(DType t) {
 }
 
 std::string TensorField::shape_string() const {
+    // Bounded: an error line names at most eight extents, whatever rank a file claims.
+    constexpr std::size_t kShown = 8;
     std::ostringstream os;
     os << '[';
-    for (std::size_t i = 0; i < shape.size(); ++i) os << (i ? ", " : "") << shape[i];
+    for (std::size_t i = 0; i < shape.size() && i < kShown; ++i) os << (i ? ", " : "") << shape[i];
+    if (shape.size() > kShown) os << ", ... (" << shape.size() << " dimensions)";
     os << ']';
     return os.str();
 }
@@ -121,33 +129,71 @@ bool TensorFile::has_magic(const void* data, std::size_t size) {
     return size >= sizeof(kMagic) && std::memcmp(data, kMagic, sizeof(kMagic)) == 0;
 }
 
-TensorFile TensorFile::read(const std::string& path) {
-    const std::uint64_t size = require_regular_file(path);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
-    if (!bytes.empty() && !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()))) {
-        throw Error(path, "read error");
+namespace {
+
+// A read-only mapping of a whole file, unmapped with its last owner.
+struct Mapping {
+    void* address = MAP_FAILED;
+    std::size_t length = 0;
+    ~Mapping() {
+        if (address != MAP_FAILED) ::munmap(address, length);
     }
-    return parse(std::move(bytes), path);
+};
+
+}  // namespace
+
+TensorFile TensorFile::read(const std::string& path) {
+    require_regular_file(path);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) {
+        const std::string why = std::strerror(errno);
+        ::close(fd);
+        throw Error(path, "cannot read its size: " + why);
+    }
+    const std::uint64_t size = std::uint64_t(st.st_size);
+    if (size == 0) {
+        ::close(fd);
+        throw Error(path, "empty file");
+    }
+    if (size > std::uint64_t(std::numeric_limits<std::size_t>::max())) {
+        ::close(fd);
+        throw Error(path, "larger than this machine can address");
+    }
+    // Mapped, not read: pages are touched only where fields are converted, so a file's claimed
+    // size costs neither memory nor time (a sparse file of 30 GB opens as fast as a small one).
+    auto mapping = std::make_shared<Mapping>();
+    mapping->length = std::size_t(size);
+    mapping->address = ::mmap(nullptr, mapping->length, PROT_READ, MAP_PRIVATE, fd, 0);
+    const int map_errno = errno;
+    ::close(fd);
+    if (mapping->address == MAP_FAILED) throw Error(path, std::string("cannot map the file: ") + std::strerror(map_errno));
+    const auto* data = static_cast<const std::uint8_t*>(mapping->address);
+    return parse_bytes(std::shared_ptr<const void>(mapping, mapping->address), data, size, path);
 }
 
 TensorFile TensorFile::parse(std::vector<std::uint8_t> bytes, const std::string& source) {
-    const std::uint64_t size = bytes.size();
+    auto owned = std::make_shared<const std::vector<std::uint8_t>>(std::move(bytes));
+    return parse_bytes(std::shared_ptr<const void>(owned, owned->data()), owned->data(), owned->size(), source);
+}
+
+TensorFile TensorFile::parse_bytes(std::shared_ptr<const void> storage, const std::uint8_t* data, std::uint64_t size,
+                                   const std::string& source) {
     if (size == 0) throw Error(source, "empty file");
-    if (size < sizeof(kMagic) || !has_magic(bytes.data(), size)) {
+    if (size < sizeof(kMagic) || !has_magic(data, size)) {
         throw Error(source, "not a tensor_file (wrong magic: expected \"tensor_file\\0\")");
     }
     if (size < kHeaderSize) {
         throw Error(source, "truncated header (" + std::to_string(size) + " bytes, need " +
                                 std::to_string(kHeaderSize) + ")");
     }
-    const int major = bytes[12], minor = bytes[13];
+    const int major = data[12], minor = data[13];
     if (major != 1 || minor != 0) {
         throw Error(source, "unsupported tensor_file version " + std::to_string(major) + "." +
                                 std::to_string(minor) + " (expected 1.0)");
     }
-    const std::uint32_t field_count = load_le<std::uint32_t>(bytes.data() + 14);
+    const std::uint32_t field_count = load_le<std::uint32_t>(data + 14);
     // Each descriptor takes at least 13 bytes: a count the file cannot hold is hostile.
     if (field_count > (size - kHeaderSize) / 13) {
         throw Error(source, "declares " + std::to_string(field_count) +
@@ -166,25 +212,29 @@ TensorFile TensorFile::parse(std::vector<std::uint8_t> bytes, const std::string&
     for (std::uint32_t i = 0; i < field_count; ++i) {
         TensorField f;
         need(2, i);
-        const std::uint16_t name_length = load_le<std::uint16_t>(bytes.data() + pos);
+        const std::uint16_t name_length = load_le<std::uint16_t>(data + pos);
         pos += 2;
         need(name_length, i);
-        f.name.assign(reinterpret_cast<const char*>(bytes.data() + pos), name_length);
+        f.name.assign(reinterpret_cast<const char*>(data + pos), name_length);
         pos += name_length;
         need(2 + 1 + 8, i);
-        const std::uint16_t rank = load_le<std::uint16_t>(bytes.data() + pos);
-        const std::uint8_t code = bytes[pos + 2];
-        f.offset = load_le<std::uint64_t>(bytes.data() + pos + 3);
+        const std::uint16_t rank = load_le<std::uint16_t>(data + pos);
+        const std::uint8_t code = data[pos + 2];
+        f.offset = load_le<std::uint64_t>(data + pos + 3);
         pos += 11;
         if (code == 0 || code > 11) {
             throw Error(source, "field '" + f.name + "' has invalid dtype code " + std::to_string(code));
         }
         f.dtype = DType(code);
+        if (rank > kMaxRank) {
+            throw Error(source, "field '" + f.name + "' has " + std::to_string(rank) + " dimensions, more than " +
+                                    std::to_string(kMaxRank) + " (corrupt)");
+        }
         need(std::uint64_t(rank) * 8, i);
         f.count = 1;
         bool overflow = false;
         for (std::uint16_t d = 0; d < rank; ++d) {
-            std::uint64_t extent = load_le<std::uint64_t>(bytes.data() + pos);
+            std::uint64_t extent = load_le<std::uint64_t>(data + pos);
             pos += 8;
             f.shape.push_back(extent);
             overflow = overflow || __builtin_mul_overflow(f.count, extent, &f.count);
@@ -195,6 +245,11 @@ TensorFile TensorFile::parse(std::vector<std::uint8_t> bytes, const std::string&
             throw Error(source, "field '" + f.name + "' has a shape " + f.shape_string() +
                                     " whose size overflows");
         }
+        if (payload_bytes > kMaxFieldBytes) {
+            throw Error(source, "field '" + f.name + "' has a shape " + f.shape_string() + " of " +
+                                    std::to_string(payload_bytes) + " bytes, more than the " +
+                                    std::to_string(kMaxFieldBytes >> 20) + " MiB a field may hold");
+        }
         if (f.offset > size || payload_bytes > size - f.offset) {
             throw Error(source, "field '" + f.name + "' payload (offset " + std::to_string(f.offset) +
                                     ", " + std::to_string(payload_bytes) +
@@ -204,7 +259,9 @@ TensorFile TensorFile::parse(std::vector<std::uint8_t> bytes, const std::string&
         if (file.find(f.name)) throw Error(source, "duplicate field '" + f.name + "'");
         file.m_fields.push_back(std::move(f));
     }
-    file.m_bytes = std::move(bytes);
+    file.m_storage = std::move(storage);
+    file.m_data = data;
+    file.m_size = size;
     return file;
 }
 

@@ -1,5 +1,6 @@
 #include <npf/shading/npf_model.h>
 
+#include <npf/core/brdf.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_equation.h>
 #include <npf/shading/table_interpolation.h>
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace npf {
 
@@ -75,9 +77,11 @@ bool finite(const Vec3& w) { return std::isfinite(w.x) && std::isfinite(w.y) && 
 
 // ---- Validation ------------------------------------------------------------------------------
 
+// Finite and within kMaxMaterialValue: a finite but absurd value (3e38) would overflow the
+// sums and squares of every later computation (albedo, fit errors).
 template <typename T>
 bool all_finite(const std::vector<T>& v) {
-    return std::all_of(v.begin(), v.end(), [](T x) { return std::isfinite(x); });
+    return std::all_of(v.begin(), v.end(), [](T x) { return std::isfinite(x) && std::fabs(double(x)) <= kMaxMaterialValue; });
 }
 
 void check_basis(const SpectralBasis& s, const char* name, std::size_t cells, std::size_t channels,
@@ -97,8 +101,12 @@ void check_basis(const SpectralBasis& s, const char* name, std::size_t cells, st
     if (s.weights.size() != std::size_t(s.rank) * channels) {
         throw Error(source, n + " weights have the wrong number of values");
     }
-    if (!all_finite(s.basis)) throw Error(source, "non-finite value in the " + n + " basis");
-    if (!all_finite(s.weights)) throw Error(source, "non-finite value in the " + n + " weights");
+    if (std::size_t(s.rank) * cells > NpfModel::kMaxBasisValues) {
+        throw Error(source, n + " has " + std::to_string(std::size_t(s.rank) * cells) + " basis values (rank x cells), more than " +
+                                std::to_string(NpfModel::kMaxBasisValues));
+    }
+    if (!all_finite(s.basis)) throw Error(source, "non-finite or out-of-range value in the " + n + " basis");
+    if (!all_finite(s.weights)) throw Error(source, "non-finite or out-of-range value in the " + n + " weights");
     if (s.singular_values.size() != max_rank) {
         throw Error(source, n + " has " + std::to_string(s.singular_values.size()) + " singular values, expected " +
                                 std::to_string(max_rank));
@@ -201,11 +209,19 @@ void NpfModel::validate(const std::string& source) const {
         for (float x : v) {
             if (!std::isfinite(x)) throw Error(source, std::string("non-finite value in ") + name);
             if (x < 0.f) throw Error(source, std::string("negative value in ") + name);
+            if (x > kMaxMaterialValue) throw Error(source, std::string("out-of-range value in ") + name);
         }
     };
     check_non_negative(rho_d, "rho_d");
     check_non_negative(rho_s, "rho_s");
     check_non_negative(F, "F");
+    for (const auto& [name, cells] : {std::pair<const char*, std::size_t>{"D", std::size_t(d_theta) * std::size_t(d_phi)},
+                                      {"G", std::size_t(g_theta) * std::size_t(g_phi)}}) {
+        if (cells > kMaxTableCells) {
+            throw Error(source, std::string(name) + " has " + std::to_string(cells) + " cells, more than " +
+                                    std::to_string(kMaxTableCells));
+        }
+    }
     check_basis(D, "D", std::size_t(d_theta) * std::size_t(d_phi), C, source);
     check_basis(G, "G", std::size_t(g_theta) * std::size_t(g_phi), C, source);
     if (has_detail()) {

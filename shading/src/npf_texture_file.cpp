@@ -315,6 +315,14 @@ private:
         m.f_theta = int_attribute(d, layout::kAttrFTheta, 1, kMaxGrid);
         m.g_theta = int_attribute(d, layout::kAttrGTheta, 1, kMaxGrid);
         m.g_phi = int_attribute(d, layout::kAttrGPhi, 1, kMaxGrid);
+        for (const auto& [name, cells] :
+             {std::pair<const char*, std::size_t>{"D", std::size_t(m.d_theta) * std::size_t(m.d_phi)},
+              {"G", std::size_t(m.g_theta) * std::size_t(m.g_phi)}}) {
+            if (cells > NpfModel::kMaxTableCells) {
+                throw Error(m_path, std::string("the ") + name + " table has " + std::to_string(cells) +
+                                        " cells, more than the format's " + std::to_string(NpfModel::kMaxTableCells));
+            }
+        }
         const int isotropic = int_attribute(d, layout::kAttrIsotropic, 0, 1);
         if ((isotropic == 1) != m.isotropic()) {
             throw Error(m_path, "attribute npf:isotropic disagrees with the grid sizes (phi sizes " +
@@ -325,6 +333,12 @@ private:
             s.cells = std::size_t(theta) * std::size_t(phi);
             const std::size_t max_rank = std::min(s.cells, std::size_t(C));
             s.rank = int_attribute(d, rank_name, 1, int(max_rank));
+            // The format's caps (docs/format.md sec. 8), before anything is sized by the header.
+            if (std::size_t(s.rank) * s.cells > NpfModel::kMaxBasisValues) {
+                throw Error(m_path, std::string(rank_name) + " " + std::to_string(s.rank) + " over " +
+                                        std::to_string(s.cells) + " cells is more than the format's " +
+                                        std::to_string(NpfModel::kMaxBasisValues) + " basis values");
+            }
             s.kept_ratio = ratio_attribute(d, ratio_name);
             s.singular_values = numbers_attribute(d, sigma_name);
             if (s.singular_values.size() != max_rank) {

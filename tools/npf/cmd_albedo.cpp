@@ -216,6 +216,21 @@ int run_albedo(const std::vector<std::string>& args) {
     const std::vector<AlbedoRow> reference_rows =
         against ? directional_albedo_table(*reference, reference_query, options) : std::vector<AlbedoRow>();
 
+    // An albedo that is not a finite number is the material's fault (values that overflow the
+    // estimator's sums), never a result to print as null with exit 0.
+    auto require_finite = [](const std::vector<AlbedoRow>& table, const std::string& path) {
+        for (const AlbedoRow& row : table) {
+            for (double a : row.albedo) {
+                if (!std::isfinite(a)) {
+                    throw Error(path, "its directional albedo at " + json_number(row.theta_deg) +
+                                          " degrees is not a finite number (its values overflow)");
+                }
+            }
+        }
+    };
+    require_finite(rows, material_path);
+    require_finite(reference_rows, reference_path);
+
     const std::size_t n = channels.size();
     const std::vector<std::string> names = channel_names(channels);
     std::vector<std::vector<double>> relative(rows.size());

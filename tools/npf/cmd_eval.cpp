@@ -118,8 +118,10 @@ int run_eval(const std::vector<std::string>& args) {
         double v[6];
         std::string why;
         if (!parse_pair(line, v, why)) throw Error(dirs_name + ":" + std::to_string(line_no), why);
-        const double li = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        const double lo = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
+        // hypot, not sqrt of a sum of squares: components of 1e308 (or 1e-310) are a direction
+        // like any other, and their squares would overflow (or vanish).
+        const double li = std::hypot(v[0], v[1], v[2]);
+        const double lo = std::hypot(v[3], v[4], v[5]);
         if (!(li > 0.0) || !(lo > 0.0)) {
             throw Error(dirs_name + ":" + std::to_string(line_no), "a direction of zero length");
         }

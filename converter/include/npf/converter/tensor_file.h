@@ -1,14 +1,17 @@
 // The "tensor_file" v1.0 container of the RGL material database (docs/rgl-format.md, sec. 1):
 // a little-endian header, named fields with a dtype and a shape, payloads at absolute offsets.
 //
-// TensorFile reads and validates the whole container up front, so that every later access is
+// TensorFile validates the whole container's structure up front, so that every later access is
 // in bounds: a truncated, hostile or inconsistent file is rejected with an npf::Error naming
-// the file and the problem, never read past its end. TensorFileWriter writes files that every
-// reference reader accepts (payloads 8-byte aligned, in descriptor order).
+// the file and the problem, never read past its end. A file is mapped, not read: what it costs
+// is what its fields hold, not what its size claims (a sparse 30 GB file costs nothing until a
+// field is converted, and no field may claim more than kMaxFieldBytes). TensorFileWriter writes
+// files that every reference reader accepts (payloads 8-byte aligned, in descriptor order).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,6 +40,12 @@ class TensorFile {
 public:
     static constexpr char kMagic[12] = {'t', 'e', 'n', 's', 'o', 'r', '_',
                                         'f', 'i', 'l', 'e', '\0'};
+    // The largest payload one field may declare: 1 GiB. The largest measured files of the RGL
+    // database are a few hundred MB in all, and every field is converted to floats in memory,
+    // so a field above this is a hostile or damaged file, rejected before any allocation.
+    static constexpr std::uint64_t kMaxFieldBytes = std::uint64_t(1) << 30;
+    // Shapes of more dimensions than this are not RGL's (rank 5 at most) and are rejected.
+    static constexpr std::size_t kMaxRank = 16;
 
     // Throws npf::Error naming `path` for a missing, unreadable or malformed file.
     static TensorFile read(const std::string& path);
@@ -46,7 +55,7 @@ public:
     static bool has_magic(const void* data, std::size_t size);
 
     const std::string& source() const { return m_source; }
-    std::uint64_t size_bytes() const { return m_bytes.size(); }
+    std::uint64_t size_bytes() const { return m_size; }
     const std::vector<TensorField>& fields() const { return m_fields; }
 
     const TensorField* find(const std::string& name) const;
@@ -56,7 +65,7 @@ public:
     std::vector<float> to_float(const TensorField& f) const;
     std::vector<double> to_double(const TensorField& f) const;
     // The payload bytes as stored (little-endian).
-    const std::uint8_t* payload(const TensorField& f) const { return m_bytes.data() + f.offset; }
+    const std::uint8_t* payload(const TensorField& f) const { return m_data + f.offset; }
     // A u8 field as text (descriptions).
     std::string to_string(const TensorField& f) const;
 
@@ -65,8 +74,14 @@ public:
     void expect_rank(const TensorField& f, std::size_t rank) const;
 
 private:
+    // Validates the structure of `size` bytes at `data` (kept alive by `storage`).
+    static TensorFile parse_bytes(std::shared_ptr<const void> storage, const std::uint8_t* data, std::uint64_t size,
+                                  const std::string& source);
+
     std::string m_source;
-    std::vector<std::uint8_t> m_bytes;
+    std::shared_ptr<const void> m_storage;  // the mapping or the parsed vector; copies share it
+    const std::uint8_t* m_data = nullptr;
+    std::uint64_t m_size = 0;
     std::vector<TensorField> m_fields;
 };
 

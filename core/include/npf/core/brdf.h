@@ -28,6 +28,12 @@
 
 namespace npf {
 
+// The largest |value| a material file may store (f_r, f_r cos or a table of them, in 1/sr).
+// A perfect mirror sampled over 1e-6 sr is 1e6; squares and sums of values must stay finite in
+// float (fit weights, error sums, albedo estimates). Readers reject larger values as corrupt, so
+// that a finite but absurd table (3e38) cannot turn into infinities and NaNs downstream.
+inline constexpr double kMaxMaterialValue = 1e12;
+
 struct BrdfInfo {
     std::string format;       // "rgl", "merl", ...
     std::string path;         // where it was read from, empty for in-memory materials

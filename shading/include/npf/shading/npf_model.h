@@ -89,9 +89,10 @@ struct NpfModel {
     // of the row before the last are unchanged. Returns the number of columns changed.
     int close_g_at_horizon();
 
-    // Throws npf::Error naming `source` when sizes disagree, a rank is out of range, a value is
-    // not finite, rho_d, rho_s or F is negative, wavelengths are not positive and strictly
-    // ascending, or singular values are not descending and non-negative.
+    // Throws npf::Error naming `source` when sizes disagree or exceed the caps above, a rank is
+    // out of range, a value is not finite or above kMaxMaterialValue in magnitude, rho_d, rho_s
+    // or F is negative, wavelengths are not positive and strictly ascending, or singular values
+    // are not descending and non-negative.
     void validate(const std::string& source) const;
 
     // Ranks up to this many have their interpolated basis values cached in a Lookup; larger ranks
@@ -101,6 +102,12 @@ struct NpfModel {
     // The largest detail grid a model may hold (docs/format.md sec. 8): 2^22 cells, 16 MiB of
     // floats per basis table, far above any useful residual and far below what exhausts memory.
     static constexpr std::size_t kMaxDetailCells = std::size_t(1) << 22;
+    // The largest D or G table (docs/format.md sec. 8): 2^20 cells (1024 x 1024; the paper's
+    // and the production preset's grid is 90 x 180, 64 times smaller), and at most 2^25 basis values (rank x
+    // cells, 128 MiB of floats) in any one basis, the detail layer's included. A reader checks
+    // these against the header before it allocates anything, so a small file cannot claim gigabytes.
+    static constexpr std::size_t kMaxTableCells = std::size_t(1) << 20;
+    static constexpr std::size_t kMaxBasisValues = std::size_t(1) << 25;
 
     // Everything about one direction pair that every channel shares. No member initialisers:
     // prepare() fills every field, and the shading hot path should not pay for zeroing.
