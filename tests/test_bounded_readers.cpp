@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -153,6 +154,17 @@ TEST(BoundedReaders, MerlFilesOfTheWrongSizeSayWhatIsWrong) {
     write_bytes(padded, more);
     EXPECT_NE(error_of([&] { npf::open_brdf(cut); }).find("truncated"), std::string::npos) << error_of([&] { npf::open_brdf(cut); });
     EXPECT_NE(error_of([&] { npf::open_brdf(padded); }).find("trailing data"), std::string::npos);
+    // Any plausible header, not only MERL's standard one: a 2 x 3 x 4 table with a byte too many.
+    const std::string small = dir + "/small.binary", small_padded = dir + "/small.dat";
+    npf::write_merl(small, 2, 3, 4, [](int, int, int, double rgb[3]) { rgb[0] = rgb[1] = rgb[2] = 0.1; });
+    {
+        std::ifstream in(small, std::ios::binary);
+        std::vector<std::uint8_t> b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        b.push_back(0);
+        write_bytes(small_padded, b);
+    }
+    EXPECT_NE(error_of([&] { npf::open_brdf(small_padded); }).find("trailing data"), std::string::npos)
+        << error_of([&] { npf::open_brdf(small_padded); });
     // A .binary whose header claims a table above the cap, in a sparse file of exactly that size.
     const std::string huge = dir + "/huge.binary";
     std::vector<std::uint8_t> header;

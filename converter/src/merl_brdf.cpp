@@ -223,9 +223,15 @@ bool all_finite(const Vec3& v) {
 
 // ---- Loading -----------------------------------------------------------------------------
 
-bool MerlBrdf::has_standard_header(const std::uint8_t* head, std::size_t head_size) {
-    return head != nullptr && head_size >= kHeaderBytes && read_le_int32(head) == 90 && read_le_int32(head + 4) == 90 &&
-           read_le_int32(head + 8) == 180;
+bool MerlBrdf::has_plausible_header(const std::uint8_t* head, std::size_t head_size, std::uint64_t file_size) {
+    if (head == nullptr || head_size < kHeaderBytes) return false;
+    const std::int32_t n_th = read_le_int32(head), n_td = read_le_int32(head + 4), n_pd = read_le_int32(head + 8);
+    if (n_th == 90 && n_td == 90 && n_pd == 180) return true;  // MERL's own table
+    std::uint64_t expected = 0;
+    if (!check_dims(n_th, n_td, n_pd, expected).empty()) return false;
+    // Three positive dimensions whose table is within a factor of two of the file's size: random
+    // bytes rarely do that, a MERL file cut short or padded does.
+    return expected / 2 <= file_size && file_size / 2 <= expected;
 }
 
 bool MerlBrdf::looks_like_merl(const std::uint8_t* head, std::size_t head_size,

@@ -35,9 +35,9 @@ std::unique_ptr<Brdf> open_brdf(const std::string& path) {
     in.read(reinterpret_cast<char*>(head), sizeof(head));
     const std::size_t got = std::size_t(in.gcount());
     if (TensorFile::has_magic(head, got)) return RglBrdf::load(path);
-    // A MERL file by its size, or one that says it is (its name, or MERL's standard header)
-    // whose size is wrong: the loader then says it is truncated or has trailing bytes.
-    if (MerlBrdf::looks_like_merl(head, got, size) || MerlBrdf::has_standard_header(head, got) ||
+    // A MERL file by its size, or one that says it is (its name, or a plausible header) whose
+    // size is wrong: the loader then says it is truncated or has trailing bytes.
+    if (MerlBrdf::looks_like_merl(head, got, size) || MerlBrdf::has_plausible_header(head, got, size) ||
         ends_with(path, ".binary"))
         return MerlBrdf::load(path);
     // Any OpenEXR file is taken for an NPF texture: the reader says what is missing if it is not.

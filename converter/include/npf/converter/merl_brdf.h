@@ -46,9 +46,10 @@ public:
     // makes the file exactly `file_size` bytes long (12 + n_th * n_td * n_pd * 3 * 8).
     static bool looks_like_merl(const std::uint8_t* head, std::size_t head_size,
                                 std::uint64_t file_size);
-    // True when the first bytes hold MERL's standard 90 x 90 x 180 dimensions, whatever the
-    // file's size: a truncated or padded MERL file, which the loader then names as such.
-    static bool has_standard_header(const std::uint8_t* head, std::size_t head_size);
+    // True when the first bytes hold MERL's standard 90 x 90 x 180 dimensions, or three positive
+    // dimensions whose table is within a factor of two of `file_size`: a MERL file cut short or
+    // padded, which the loader then names as such.
+    static bool has_plausible_header(const std::uint8_t* head, std::size_t head_size, std::uint64_t file_size);
 
     const BrdfInfo& info() const override { return m_info; }
     void eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& query,
