@@ -1,4 +1,4 @@
-// The u-space of the RGL tables (docs/rgl-format.md of the shared notes, sec. 0), shared by
+// The u-space of the RGL tables (docs/rgl-format.md, sec. 0), shared by
 // the reader and the writer so that both map angles identically: a square-root warp of the
 // elevation and a linear map of the azimuth onto [0, 1].
 #pragma once

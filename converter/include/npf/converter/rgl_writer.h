@@ -1,5 +1,5 @@
 // Writes an RGL `.bsdf` file from any BRDF source ("virtual acquisition", docs/rgl-format.md
-// of the shared notes, sec. 9): the NDF and projected-area tables, a theta_i grid, the VNDF
+// sec. 9): the NDF and projected-area tables, a theta_i grid, the VNDF
 // and luminance warps and the data, built exactly as the reference readers will read them, so
 // that reading the file back reproduces the source at the data nodes to float precision.
 // Valid for every reader: float32 tables, u8 description and jacobian, 8-byte aligned
