@@ -20,7 +20,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <functional>
+#include <optional>
 #include <iterator>
 #include <sstream>
 #include <string>
@@ -200,6 +202,38 @@ TEST(BoundedReaders, FactorTextureTablesAboveTheFormatCapsAreRefused) {
     ASSERT_TRUE(out->close());
     const std::string e = error_of([&] { npf::open_brdf(path); });
     EXPECT_NE(e.find("the D table has 67108864 cells, more than the format's 1048576"), std::string::npos) << e;
+}
+
+TEST(BoundedReaders, OpenExrAttributesMustHaveTheirTypesSize) {
+    // OpenEXR reads a known type by its own size, whatever the header declares, and reads on
+    // from there: a fuzzed factor texture whose chunkCount declared 260 bytes made it take the
+    // next attribute from the wrong place and allocate 1.8 GB (fuzz/corpus/npf_exr/oom-*).
+    const std::string dir = npf::testing::temporary_folder("bounded-exr-size");
+    const std::string good = dir + "/good.exr";
+    const ToolRun synth = npf::testing::run_tool({"convert", "configs/materials/red_plastic.yaml", "-o", good, "--preset",
+                                                  "preview", "--no-predict"},
+                                                 {std::nullopt, NPF_SOURCE_DIR});
+    ASSERT_EQ(synth.status, 0) << synth.err;
+    std::vector<std::uint8_t> bytes(fs::file_size(good));
+    {
+        std::ifstream in(good, std::ios::binary);
+        in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+    }
+    const std::string key("chunkCount\0int\0", 15);
+    const auto at = std::search(bytes.begin(), bytes.end(), key.begin(), key.end());
+    ASSERT_NE(at, bytes.end());
+    at[15] = 4 + 0;  // keep the low byte, set the declared size to 260
+    at[16] = 1;
+    const std::string bad = dir + "/bad.exr";
+    write_bytes(bad, bytes);
+    const std::string e = error_of([&] { npf::open_brdf(bad); });
+    EXPECT_NE(e.find("attribute 'chunkCount' of type int has 260 bytes, not 4"), std::string::npos) << e;
+    // The committed fuzzing input itself.
+    for (const auto& entry : fs::directory_iterator(std::string(NPF_SOURCE_DIR) + "/fuzz/corpus/npf_exr")) {
+        if (entry.path().filename().string().rfind("oom-", 0) != 0) continue;
+        const std::string problem = error_of([&] { npf::open_brdf(entry.path().string()); });
+        EXPECT_NE(problem.find("OpenEXR"), std::string::npos) << entry.path() << ": " << problem;
+    }
 }
 
 TEST(BoundedReaders, EvalTakesDirectionsOfAnyFiniteScale) {

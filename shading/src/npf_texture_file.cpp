@@ -6,6 +6,7 @@
 
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
+#include <npf/core/openexr_header.h>
 
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/texture.h>
@@ -34,6 +35,9 @@ using OIIO::TypeDesc;
 // The most values one part may hold (512 MiB of floats), far above any real model, so that a
 // hostile header cannot make us allocate without bound.
 constexpr std::size_t kMaxPartValues = std::size_t(1) << 27;
+// The largest part a factor texture has: the detail layer's 2^22 cells (NpfModel's caps), with
+// room to spare; a header claiming more is refused before OpenEXR sizes anything by it.
+constexpr std::uint64_t kMaxPartPixels = std::uint64_t(1) << 23;
 constexpr int kMaxChannelCount = 1 << 16;
 
 std::string quoted(const std::string& s) { return "'" + s + "'"; }
@@ -497,56 +501,6 @@ namespace {
 // allocate and clear that much (2 GB and seconds per file); and OpenImageIO 2.4 aborts on a
 // channel of an unknown pixel type. Refuses an attribute longer than what is left of the file
 // and such a channel. "" when the headers are plausible.
-std::string exr_header_problem(std::istream& in, std::uint64_t file_size) {
-    unsigned char head[8] = {};
-    if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return "truncated OpenEXR header";
-    const bool multipart = (head[5] & 0x10) != 0;  // version field bit 12
-    for (int header = 0; header < (1 << 20); ++header) {
-        for (int attribute = 0;; ++attribute) {
-            std::string name, type;
-            for (std::string* text : {&name, &type}) {
-                for (char c; in.get(c) && c != '\0';) {
-                    if (text->size() >= 255) return "OpenEXR header holds an over-long attribute name";
-                    *text += c;
-                }
-                if (!in) return "truncated OpenEXR header";
-                if (text == &name && name.empty()) break;  // end of this header
-            }
-            if (name.empty()) {
-                if (attribute == 0 && header > 0) return "";  // the empty header ending a multi-part file
-                break;
-            }
-            unsigned char n[4] = {};
-            if (!in.read(reinterpret_cast<char*>(n), sizeof n)) return "truncated OpenEXR header";
-            const std::int64_t length = std::int64_t(std::int32_t(std::uint32_t(n[0]) | std::uint32_t(n[1]) << 8 |
-                                                                 std::uint32_t(n[2]) << 16 | std::uint32_t(n[3]) << 24));
-            const std::uint64_t at = std::uint64_t(in.tellg());
-            if (length < 0 || std::uint64_t(length) > file_size - std::min(at, file_size)) {
-                return "OpenEXR attribute '" + name + "' claims " + std::to_string(length) + " bytes, more than the file holds";
-            }
-            if (type != "chlist") {
-                in.seekg(std::streamoff(length), std::ios::cur);
-                continue;
-            }
-            // OpenImageIO 2.4 aborts the process (an assertion) on a channel whose pixel type is
-            // not UINT, HALF or FLOAT (0, 1, 2), which OpenEXR passes on unchecked (fuzzing).
-            std::string list(std::size_t(length), '\0');
-            if (!in.read(list.data(), length)) return "truncated OpenEXR header";
-            for (std::size_t i = 0; i < list.size() && list[i] != '\0';) {
-                const std::size_t end = list.find('\0', i);
-                if (end == std::string::npos || end + 17 > list.size()) return "malformed OpenEXR channel list";
-                const unsigned char type_byte = static_cast<unsigned char>(list[end + 1]);
-                if (type_byte > 2 || list[end + 2] != '\0' || list[end + 3] != '\0' || list[end + 4] != '\0') {
-                    return "OpenEXR channel '" + list.substr(i, end - i) + "' has an unknown pixel type";
-                }
-                i = end + 17;  // name, pixel type (4), pLinear (1), reserved (3), x and y sampling (4 + 4)
-            }
-        }
-        if (!multipart) return "";
-    }
-    return "too many OpenEXR headers";
-}
-
 NpfModel read_with(const std::string& path, std::unique_ptr<PartSource> source) {
     const std::uint64_t size = require_regular_file(path, "an NPF texture (.exr)");
     if (size == 0) throw Error(path, "empty file");
@@ -558,10 +512,8 @@ NpfModel read_with(const std::string& path, std::unique_ptr<PartSource> source) 
         if (!has_exr_magic(head, std::size_t(in.gcount()))) {
             throw Error(path, "not an OpenEXR file (NPF factor textures are OpenEXR images)");
         }
-        in.seekg(0);
-        const std::string problem = exr_header_problem(in, size);
-        if (!problem.empty()) throw Error(path, problem);
     }
+    check_openexr_header(path, kMaxPartPixels);
     try {
         return Reader(path, std::move(source)).read();
     } catch (const Error&) {
@@ -584,11 +536,8 @@ bool is_npf_texture(const std::string& path) {
         std::ifstream in(path, std::ios::binary);
         unsigned char head[4] = {};
         if (!in.read(reinterpret_cast<char*>(head), sizeof head) || !has_exr_magic(head, sizeof head)) return false;
-        std::error_code ec;
-        const std::uint64_t size = std::filesystem::file_size(path, ec);
-        in.seekg(0);
-        if (ec || !exr_header_problem(in, size).empty()) return false;
         in.close();
+        if (!openexr_header_problem(path, kMaxPartPixels).empty()) return false;
         std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::create("openexr");
         ImageSpec spec;
         if (!input || !input->open(path, spec)) {
