@@ -2,7 +2,9 @@
 #include <npf/color/display_image.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/core/openexr_header.h>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -28,6 +30,10 @@ std::uint8_t to_8bit(float v) {
 }  // namespace
 
 FloatImage read_scene_image(const std::string& path) {
+    // An OpenEXR image's headers are checked before OpenEXR sizes anything by them (at most 2^28
+    // pixels, 16384 x 16384); other formats go straight to OpenImageIO.
+    const std::string exr_problem = openexr_header_problem(path, std::uint64_t(1) << 28);
+    if (!exr_problem.empty() && exr_problem != "not an OpenEXR file") throw Error(path, exr_problem);
     std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
     if (!in) throw Error(path, "cannot read the image: " + first_line(OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
@@ -68,18 +74,21 @@ FloatImage read_scene_image(const std::string& path) {
     return image;
 }
 
-void write_png_8bit(const std::string& path, std::size_t width, std::size_t height, int channels,
+void write_png_8bit(AtomicOutput& atomic, std::size_t width, std::size_t height, int channels,
                     const std::vector<std::uint8_t>& bytes, const std::vector<std::pair<std::string, std::string>>& attributes) {
+    const std::string& path = atomic.final_path();
     if (channels != 3 && channels != 4) throw Error(path, "a PNG here has 3 or 4 channels, not " + std::to_string(channels));
     if (width == 0 || height == 0 || bytes.size() != width * height * static_cast<std::size_t>(channels))
         throw Error(path, "image size and pixel count disagree (or the image is empty)");
     constexpr std::size_t kMaxSide = 1u << 20;  // PNG and OIIO take int sizes; no real image is larger
     if (width > kMaxSide || height > kMaxSide) throw Error(path, "image too large for PNG");
 
-    AtomicOutput atomic(path);
-    // The temporary name does not end in .png, so the format is named explicitly.
+    // OpenImageIO writes through the proxy into the temporary, never opening a file by name.
+    // Declared before `out`, so that it outlives the writes `out` makes when destroyed unclosed.
+    AtomicOutputProxy<OIIO::Filesystem::IOProxy> proxy(atomic);
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
     if (!out) throw Error(path, "this build of OpenImageIO cannot write PNG: " + first_line(OIIO::geterror()));
+    if (!out->set_ioproxy(&proxy)) throw Error(path, "this build of OpenImageIO cannot write PNG through a proxy");
     OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height), channels, OIIO::TypeUInt8);
     if (channels == 4) {
         spec.alpha_channel = 3;
@@ -87,16 +96,21 @@ void write_png_8bit(const std::string& path, std::size_t width, std::size_t heig
     }
     spec.attribute("Software", "npf");
     for (const auto& a : attributes) spec.attribute(a.first, a.second);
-    if (!out->open(atomic.temporary_path(), spec))
-        throw Error(path, "cannot create output: " + first_line(out->geterror()));
+    if (!out->open(atomic.temporary_path(), spec)) atomic.fail("cannot create output", first_line(out->geterror()));
     if (!out->write_image(OIIO::TypeUInt8, bytes.data()))
-        throw Error(path, "cannot write the pixels: " + first_line(out->geterror()));
-    if (!out->close()) throw Error(path, "cannot finish output: " + first_line(out->geterror()));
-    out.reset();
+        atomic.fail("cannot write the pixels", first_line(out->geterror()));
+    if (!out->close()) atomic.fail("cannot finish output", first_line(out->geterror()));
+}
+
+void write_png_8bit(const std::string& path, std::size_t width, std::size_t height, int channels,
+                    const std::vector<std::uint8_t>& bytes, const std::vector<std::pair<std::string, std::string>>& attributes) {
+    AtomicOutput atomic(path);
+    write_png_8bit(atomic, width, height, channels, bytes, attributes);
     atomic.commit();
 }
 
-void write_display_png(const std::string& path, const FloatImage& image, const DisplayTransform& transform) {
+void write_display_png(AtomicOutput& atomic, const FloatImage& image, const DisplayTransform& transform) {
+    const std::string& path = atomic.final_path();
     const int nc = image.channels;
     if (nc != 3 && nc != 4)
         throw Error(path, "a display image has 3 or 4 channels, not " + std::to_string(nc));
@@ -119,7 +133,13 @@ void write_display_png(const std::string& path, const FloatImage& image, const D
     transform.apply(display.data(), image.width, image.height, nc);
     std::vector<std::uint8_t> bytes(display.size());
     std::transform(display.begin(), display.end(), bytes.begin(), to_8bit);
-    write_png_8bit(path, image.width, image.height, nc, bytes, {{"npf:display", transform.display() + " / " + transform.view()}});
+    write_png_8bit(atomic, image.width, image.height, nc, bytes, {{"npf:display", transform.display() + " / " + transform.view()}});
+}
+
+void write_display_png(const std::string& path, const FloatImage& image, const DisplayTransform& transform) {
+    AtomicOutput atomic(path);
+    write_display_png(atomic, image, transform);
+    atomic.commit();
 }
 
 }  // namespace npf::color

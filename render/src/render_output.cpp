@@ -3,6 +3,7 @@
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cstdio>
@@ -61,7 +62,8 @@ RenderMetadata describe_render(const RenderResult& result, const RenderOptions& 
     return m;
 }
 
-void write_render_exr(const std::string& path, const RenderResult& result, const RenderMetadata& metadata) {
+void write_render_exr(AtomicOutput& atomic, const RenderResult& result, const RenderMetadata& metadata) {
+    const std::string& path = atomic.final_path();
     const color::FloatImage& img = result.image;
     if (img.channels != 4 || img.width == 0 || img.height == 0 ||
         img.pixels.size() != img.width * img.height * 4)
@@ -85,15 +87,21 @@ void write_render_exr(const std::string& path, const RenderResult& result, const
     for (const auto& [name, value] : metadata)
         spec.attribute(name.find(':') == std::string::npos ? "npf:" + name : name, value);
 
-    AtomicOutput atomic(path);
-    // The temporary name does not end in .exr, so the format is named explicitly.
+    // OpenImageIO writes through the proxy into the temporary, never opening a file by name.
+    // Declared before `out`, so that it outlives the writes `out` makes when destroyed unclosed.
+    AtomicOutputProxy<OIIO::Filesystem::IOProxy> proxy(atomic);
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("openexr");
     if (!out) throw Error(path, "this build of OpenImageIO cannot write OpenEXR: " + first_line(OIIO::geterror()));
-    if (!out->open(atomic.temporary_path(), spec)) throw Error(path, "cannot create output: " + first_line(out->geterror()));
+    if (!out->set_ioproxy(&proxy)) throw Error(path, "this build of OpenImageIO cannot write OpenEXR through a proxy");
+    if (!out->open(atomic.temporary_path(), spec)) atomic.fail("cannot create output", first_line(out->geterror()));
     if (!out->write_image(OIIO::TypeFloat, img.pixels.data()))
-        throw Error(path, "cannot write the pixels: " + first_line(out->geterror()));
-    if (!out->close()) throw Error(path, "cannot finish output: " + first_line(out->geterror()));
-    out.reset();
+        atomic.fail("cannot write the pixels", first_line(out->geterror()));
+    if (!out->close()) atomic.fail("cannot finish output", first_line(out->geterror()));
+}
+
+void write_render_exr(const std::string& path, const RenderResult& result, const RenderMetadata& metadata) {
+    AtomicOutput atomic(path);
+    write_render_exr(atomic, result, metadata);
     atomic.commit();
 }
 

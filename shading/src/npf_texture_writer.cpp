@@ -5,10 +5,13 @@
 #include <npf/core/error.h>
 #include <npf/shading/npf_texture_layout.h>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <Imath/half.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <memory>
 #include <set>
@@ -198,6 +201,40 @@ std::string first_line(const std::string& s) {
     return nl == std::string::npos ? s : s.substr(0, nl);
 }
 
+// Reads the written file back and compares every part's pixels with what was meant, bit for
+// bit (what was stored as half is exactly representable, so it reads back equal). OpenEXR keeps
+// channels sorted by name, so they are matched by name.
+void check_written(const AtomicOutput& atomic, const std::string& name, const std::vector<PartData>& parts) {
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::create("openexr");
+    if (!in) atomic.fail("cannot read the output back", first_line(OIIO::geterror()));
+    ImageSpec first;
+    if (!in->open(name, first)) atomic.fail("cannot write (the file does not read back)", first_line(in->geterror()));
+    std::vector<float> back;
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+        const ImageSpec& want = parts[i].spec;
+        const std::string part = "part " + std::string(want.get_string_attribute("oiio:subimagename"));
+        if (!in->seek_subimage(int(i), 0)) atomic.fail("cannot write (" + part + " does not read back)", first_line(in->geterror()));
+        const ImageSpec& got = in->spec();
+        std::vector<std::size_t> where;  // want's channel k is got's channel where[k]
+        for (const std::string& channel : want.channelnames) {
+            const auto found = std::find(got.channelnames.begin(), got.channelnames.end(), channel);
+            if (found == got.channelnames.end()) break;
+            where.push_back(std::size_t(found - got.channelnames.begin()));
+        }
+        if (got.width != want.width || got.height != want.height || got.nchannels != want.nchannels ||
+            where.size() != want.channelnames.size())
+            atomic.fail("cannot write (" + part + " reads back with another shape)", "");
+        back.assign(parts[i].pixels.size(), 0.f);
+        if (!in->read_image(int(i), 0, 0, got.nchannels, OIIO::TypeFloat, back.data()))
+            atomic.fail("cannot write (" + part + " does not read back)", first_line(in->geterror()));
+        const std::size_t n = std::size_t(want.nchannels), pixels = back.size() / n;
+        for (std::size_t p = 0; p < pixels; ++p)
+            for (std::size_t k = 0; k < n; ++k)
+                if (std::memcmp(&back[p * n + where[k]], &parts[i].pixels[p * n + k], sizeof(float)) != 0)
+                    atomic.fail("cannot write (" + part + " reads back different)", "the file on disk is not what was written");
+    }
+}
+
 }  // namespace
 
 void write_npf_texture(const NpfModel& model, const std::string& path) {
@@ -208,30 +245,35 @@ void write_npf_texture(const NpfModel& model, const std::string& path) {
     for (const PartData& p : parts) specs.push_back(p.spec);
 
     AtomicOutput atomic(path);
-    // The temporary name does not end in .exr, so the format is named explicitly.
+    // OpenImageIO writes through the proxy into the temporary where it can (declared before
+    // `out`, so that it outlives the writes `out` makes when destroyed unclosed). Its multi-part
+    // OpenEXR writer (2.4) ignores proxies and opens a name: it gets one that reaches the
+    // temporary without going through the folder, and the file is read back before publishing,
+    // since that writer reports no write error (a full disk).
+    AtomicOutputProxy<OIIO::Filesystem::IOProxy> proxy(atomic);
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("openexr");
     if (!out) throw Error(path, "this build of OpenImageIO cannot write OpenEXR: " + first_line(OIIO::geterror()));
-    const std::string& temporary = atomic.temporary_path();
+    if (!out->set_ioproxy(&proxy)) throw Error(path, "this build of OpenImageIO cannot write OpenEXR through a proxy");
+    const std::string name = atomic.descriptor_path();
     try {
-        if (!out->open(temporary, int(specs.size()), specs.data())) {
-            throw Error(path, "cannot create output: " + first_line(out->geterror()));
-        }
+        if (!out->open(name, int(specs.size()), specs.data())) atomic.fail("cannot create output", first_line(out->geterror()));
         for (std::size_t i = 0; i < parts.size(); ++i) {
-            const std::string name(parts[i].spec.get_string_attribute("oiio:subimagename"));
-            if (i > 0 && !out->open(temporary, specs[i], OIIO::ImageOutput::AppendSubimage)) {
-                throw Error(path, "cannot start part '" + name + "': " + first_line(out->geterror()));
+            const std::string part(parts[i].spec.get_string_attribute("oiio:subimagename"));
+            if (i > 0 && !out->open(name, specs[i], OIIO::ImageOutput::AppendSubimage)) {
+                atomic.fail("cannot start part '" + part + "'", first_line(out->geterror()));
             }
             if (!out->write_image(OIIO::TypeFloat, parts[i].pixels.data())) {
-                throw Error(path, "cannot write part '" + name + "': " + first_line(out->geterror()));
+                atomic.fail("cannot write part '" + part + "'", first_line(out->geterror()));
             }
         }
-        if (!out->close()) throw Error(path, "cannot finish output: " + first_line(out->geterror()));
+        if (!out->close()) atomic.fail("cannot finish output", first_line(out->geterror()));
+        out.reset();
+        check_written(atomic, name, parts);
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
-        throw Error(path, std::string("cannot write: ") + e.what());
+        atomic.fail("cannot write", e.what());
     }
-    out.reset();
     atomic.commit();
 }
 

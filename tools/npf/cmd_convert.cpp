@@ -5,6 +5,7 @@
 
 #include <npf/converter/convert.h>
 #include <npf/converter/open_brdf.h>
+#include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 
 #include <cmath>
@@ -216,6 +217,7 @@ int run_convert(const std::vector<std::string>& args) {
         throw Error("--target-grids", "needs --target-psnr");
     }
 
+    check_output_path(output);  // a destination that cannot be written fails now, not after the fit
     ProgressBar bar("convert " + output, !cl.has("--quiet"));
     const ConvertReport r = convert_material(*source, output, s, [&bar](double f) { bar.update(f); });
     bar.finish();

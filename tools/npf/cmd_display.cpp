@@ -5,6 +5,7 @@
 
 #include <npf/color/display.h>
 #include <npf/color/display_image.h>
+#include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 
 #include <cstdio>
@@ -64,6 +65,7 @@ int run_display(const std::vector<std::string>& args) {
     options.display = cl.value("--display");
     options.view = cl.value("--view");
     const color::DisplayTransform transform(options);  // before reading: a bad flag fails fast
+    check_output_path(cl.value("-o"));
     const color::FloatImage image = color::read_scene_image(cl.positional()[0]);
     color::write_display_png(cl.value("-o"), image, transform);
     return 0;

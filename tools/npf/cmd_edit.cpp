@@ -6,6 +6,7 @@
 #include "progress.h"
 
 #include <npf/color/spectrum.h>
+#include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 #include <npf/edit/recipe.h>
 #include <npf/shading/npf_texture_file.h>
@@ -256,6 +257,7 @@ int run_edit(const std::vector<std::string>& args) {
         throw Error("edit", "no edits given (flags or --recipe; configs/edits/identity.yaml is the identity)");
     }
 
+    if (!dry) check_output_path(output);  // a destination that cannot be written fails now, not after the edits
     const NpfModel model = read_npf_texture(input);
     std::printf("%s: %s, %zu %s, D %d x %d, G %d x %d; %zu step%s\n", input.c_str(), model.isotropic() ? "isotropic" : "anisotropic",
                 model.channel_count(), model.channels.is_rgb() ? "RGB channels" : "wavelengths", model.d_theta, model.d_phi,

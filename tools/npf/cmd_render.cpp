@@ -7,6 +7,7 @@
 #include <npf/color/display.h>
 #include <npf/color/display_image.h>
 #include <npf/converter/open_brdf.h>
+#include <npf/core/atomic_file.h>
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
 #include <npf/render/default_environment.h>
@@ -18,7 +19,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -125,6 +125,10 @@ int run_render(const std::vector<std::string>& args) {
     const double exposure = cl.has("--exposure") ? number("--exposure", cl.value("--exposure")) : 0.0;
     if (std::fabs(exposure) > 64.0) throw Error("--exposure", "must be within -64..64 stops");
 
+    // A destination that cannot be written fails now, not after the render.
+    check_output_path(output);
+    if (!png.empty()) check_output_path(png);
+
     const std::unique_ptr<Brdf> material = open_material(material_path);
     const std::string env_path = cl.has("--env") ? cl.value("--env") : render::default_environment_map_path();
     if (env_path.empty()) throw Error("--env", "needs a file name");
@@ -141,22 +145,21 @@ int run_render(const std::vector<std::string>& args) {
     render::RenderMetadata meta = render::describe_render(result, options, environment);
     meta.insert(meta.begin(), {"npf:material", material_path});
     if (!material->info().description.empty()) meta.emplace_back("npf:material_description", material->info().description);
-    render::write_render_exr(output, result, meta);
+    // All or nothing: both files are written in full before either is published, so that a
+    // failure (a full disk) leaves both earlier outputs as they were.
+    AtomicOutput exr_out(output);
+    render::write_render_exr(exr_out, result, meta);
+    std::optional<AtomicOutput> png_out;
     if (display) {
-        try {
-            color::FloatImage shown = result.image;
-            const float scale = float(std::exp2(exposure));
-            if (scale != 1.f)
-                for (std::size_t i = 0; i < shown.pixels.size(); i += 4)
-                    for (int c = 0; c < 3; ++c) shown.pixels[i + std::size_t(c)] *= scale;
-            color::write_display_png(png, shown, *display);
-        } catch (...) {
-            // All or nothing: without its PNG the EXR is removed again.
-            std::error_code ec;
-            std::filesystem::remove(output, ec);
-            throw;
-        }
+        color::FloatImage shown = result.image;
+        const float scale = float(std::exp2(exposure));
+        if (scale != 1.f)
+            for (std::size_t i = 0; i < shown.pixels.size(); i += 4)
+                for (int c = 0; c < 3; ++c) shown.pixels[i + std::size_t(c)] *= scale;
+        png_out.emplace(png);
+        color::write_display_png(*png_out, shown, *display);
     }
+    commit_together({&exr_out, png_out ? &*png_out : nullptr});
 
     const render::RenderStats& s = result.stats;
     std::printf("wrote %s%s%s: %zux%zu, %u spp, %s, %.2f s, %.2f M samples/s on %u thread%s\n", output.c_str(),

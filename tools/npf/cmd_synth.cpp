@@ -8,6 +8,7 @@
 #include <npf/converter/material_recipe.h>
 #include <npf/converter/open_brdf.h>
 #include <npf/converter/rgl_writer.h>
+#include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 
 #include <cmath>
@@ -184,6 +185,7 @@ int run_synth(const std::vector<std::string>& args) {
         throw Error("", "the material reflects nothing: give a recipe, a Fresnel/roughness or --diffuse");
     }
 
+    check_output_path(output);  // a destination that cannot be written fails now, not after the tabulation
     const AnalyticBrdf brdf(recipe.material);
     recipe.writer.ndf = brdf.ndf_function();
     ProgressBar bar("synth " + output, !cl.has("--quiet"));

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <npf/color/display.h>
+#include <npf/core/atomic_file.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -26,16 +27,21 @@ FloatImage read_scene_image(const std::string& path);
 // as an 8-bit PNG at `path`: display values clamped to [0, 1], rounded to the nearest of 256
 // levels. With 4 channels, alpha is taken as premultiplied (OpenEXR's convention): the colour
 // is divided by it before the transform and the PNG stores straight alpha, as PNG requires.
-// Atomic: a temporary file beside `path`, renamed over it when complete. Throws npf::Error
-// naming `path` (3 or 4 channels only, pixel count matching the size, unwritable folder);
-// on failure nothing is left at `path` or beside it.
+// Published by npf::AtomicOutput (docs/reliability.md): complete or not at all. Throws
+// npf::Error naming `path` (3 or 4 channels only, pixel count matching the size, unwritable
+// folder, full disk); on failure the earlier file at `path` is untouched, nothing left beside it.
 void write_display_png(const std::string& path, const FloatImage& image, const DisplayTransform& transform);
+// The same into `out`, not committed: for publishing with another output (npf::commit_together).
+void write_display_png(AtomicOutput& out, const FloatImage& image, const DisplayTransform& transform);
 
 // The PNG writer under write_display_png, for images already in 8-bit display values (heatmaps,
 // plots): `bytes` holds width * height * channels values, rows top to bottom; 3 channels or 4
 // (straight alpha). `attributes` become text chunks (Software is npf). Atomic and throwing as
 // write_display_png.
 void write_png_8bit(const std::string& path, std::size_t width, std::size_t height, int channels,
+                    const std::vector<std::uint8_t>& bytes,
+                    const std::vector<std::pair<std::string, std::string>>& attributes = {});
+void write_png_8bit(AtomicOutput& out, std::size_t width, std::size_t height, int channels,
                     const std::vector<std::uint8_t>& bytes,
                     const std::vector<std::pair<std::string, std::string>>& attributes = {});
 

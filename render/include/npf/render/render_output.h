@@ -1,7 +1,8 @@
 // Writing a render: a float RGBA OpenEXR file with what the values are and how they were made
-// in its header, written atomically (npf::AtomicOutput: never a half-written file).
+// in its header, published by npf::AtomicOutput (never a half-written file; docs/reliability.md).
 #pragma once
 
+#include <npf/core/atomic_file.h>
 #include <npf/render/path_tracer.h>
 
 #include <string>
@@ -24,7 +25,10 @@ RenderMetadata describe_render(const RenderResult& result, const RenderOptions& 
 
 // Writes result.image (premultiplied linear Rec.709 RGBA, 32-bit float, ZIP compression, the
 // Rec.709 chromaticities, DateTime) with `metadata` as string attributes. Throws npf::Error
-// naming `path`; on failure nothing is left at `path` or beside it.
+// naming `path`; on failure the earlier file at `path` is untouched and nothing is left beside it.
 void write_render_exr(const std::string& path, const RenderResult& result, const RenderMetadata& metadata);
+
+// The same into `out`, not committed: for publishing with another output (npf::commit_together).
+void write_render_exr(AtomicOutput& out, const RenderResult& result, const RenderMetadata& metadata);
 
 }  // namespace npf::render
