@@ -1,7 +1,9 @@
 // End-to-end tests of `npf batch` on small synthetic libraries: hostile files reported by name
 // and reason with a non-zero status while the good materials convert; re-runs skip; a changed
 // setting redoes only its material; a batch killed mid-material resumes to the same bytes as
-// an uninterrupted one; two shards give the bytes of one process; summaries merge.
+// an uninterrupted one; two shards give the bytes of one process; summaries merge; a batch
+// whose inputs cover its output folder never takes its own files for inputs; the summary's
+// folder is checked before anything is converted.
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -330,4 +332,76 @@ TEST(BatchCli, KilledMidMaterialResumesToTheSameBytes) {
     EXPECT_TRUE(a == b) << "outputs of the resumed batch differ from the uninterrupted one";
 }
 
+// Inputs that cover the output folder: the batch's outputs, renders and summaries are not taken
+// for inputs, so the second run has nothing to do (it used to fail on "two inputs are named
+// 'batch-summary'", or, with the summary elsewhere, convert p_npf.exr into p_npf_npf.exr).
+TEST(BatchCli, AGlobOverTheOutputFolderNeverFeedsOnTheBatchsOwnFiles) {
+    const std::string dir = npf::testing::temporary_folder("batch-self-feed");
+    write_library(dir + "/lib", false);
+    const std::string cfg = dir + "/batch.yaml";
+    npf::testing::write_text(cfg, "output_dir: lib\ninputs: ['lib/*']\n" + std::string(kDefaults) +
+                                      "  render: {size: 16, spp: 1, threads: 1}\n");
+    const ToolRun first = batch_run({cfg, "--quiet"});
+    ASSERT_EQ(first.status, 0) << describe(first);
+    const std::vector<std::string> after_first = npf::testing::folder_entries(dir + "/lib");
+    for (int run = 0; run < 2; ++run) {
+        const ToolRun again = batch_run({cfg});
+        ASSERT_EQ(again.status, 0) << describe(again);
+        const batch::BatchSummary s = batch::read_summary_json(dir + "/lib/batch-summary.json");
+        EXPECT_EQ(statuses(s), (std::map<std::string, std::string>{{"glossy", "skipped"}, {"rough", "skipped"}, {"spectral", "skipped"}}))
+            << describe(again);
+        EXPECT_EQ(npf::testing::folder_entries(dir + "/lib"), after_first);
+    }
+
+    // Outputs that are NPF textures (valid inputs) named by `naming` beside their inputs, the
+    // summary elsewhere: p_npf.exr is an output, never the input of p_npf_npf.exr.
+    const std::string cfg2 = dir + "/named.yaml";
+    npf::testing::write_text(cfg2, "output_dir: lib2\nnaming: '{name}_npf.exr'\nsummary: sums/s\ninputs: ['lib2/*']\n" +
+                                       std::string(kDefaults));
+    fs::create_directories(dir + "/lib2");
+    fs::copy_file(dir + "/lib/glossy.exr", dir + "/lib2/p.exr");  // an NPF texture as an input
+    fs::copy_file(dir + "/lib/rough.bsdf", dir + "/lib2/q.bsdf");
+    const ToolRun named = batch_run({cfg2, "--quiet"});
+    ASSERT_EQ(named.status, 0) << describe(named);
+    const std::vector<std::string> want = {".npf-batch", "p.exr", "p_npf.exr", "q.bsdf", "q_npf.exr"};
+    EXPECT_EQ(npf::testing::folder_entries(dir + "/lib2"), want);
+    for (int run = 0; run < 2; ++run) {
+        const ToolRun again = batch_run({cfg2});
+        ASSERT_EQ(again.status, 0) << describe(again);
+        EXPECT_EQ(statuses(batch::read_summary_json(dir + "/sums/s.json")),
+                  (std::map<std::string, std::string>{{"p", "skipped"}, {"q", "skipped"}}))
+            << describe(again);
+        EXPECT_EQ(npf::testing::folder_entries(dir + "/lib2"), want);
+    }
+}
+
+// A summary in a folder that does not exist yet is written (the folder is made before any
+// conversion); one that cannot be made fails --check, and a run before it converts anything.
+TEST(BatchCli, TheSummaryFolderIsMadeOrRefusedBeforeConverting) {
+    const std::string dir = npf::testing::temporary_folder("batch-summary-folder");
+    write_library(dir + "/in", false);
+    const std::string cfg = write_config(dir + "/batch.yaml", dir + "/in", dir + "/out", "summary: reports/2024/lib\n");
+    const ToolRun check = batch_run({cfg, "--check"});
+    EXPECT_EQ(check.status, 0) << describe(check);
+    EXPECT_FALSE(fs::exists(dir + "/reports")) << "--check made a folder";
+    const ToolRun r = batch_run({cfg, "--quiet"});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_EQ(batch::read_summary_json(dir + "/reports/2024/lib.json").count(batch::MaterialStatus::Converted), 3u);
+
+    npf::testing::write_text(dir + "/blocker", "a file where the summary's folder would go");
+    const std::string bad = write_config(dir + "/bad.yaml", dir + "/in", dir + "/bad-out", "summary: blocker/lib\n");
+    const ToolRun refused = batch_run({bad, "--check"});
+    EXPECT_EQ(refused.status, 1) << describe(refused);
+    EXPECT_TRUE(contains(refused.err, "summary folder")) << describe(refused);
+    EXPECT_TRUE(contains(refused.err, dir + "/blocker is not a folder")) << describe(refused);
+    const ToolRun run = batch_run({bad});
+    EXPECT_EQ(run.status, 1) << describe(run);
+    EXPECT_TRUE(contains(run.err, "summary folder")) << describe(run);
+    EXPECT_TRUE(outputs_of(dir + "/bad-out").empty()) << "converted before finding out the summary cannot be written";
+    // The same for --summary.
+    const ToolRun flag = batch_run({cfg, "--check", "--summary", dir + "/blocker/x"});
+    EXPECT_EQ(flag.status, 1) << describe(flag);
+}
+
 }  // namespace
+

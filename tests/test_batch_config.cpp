@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <set>
 #include <string>
@@ -168,6 +169,102 @@ TEST(BatchConfig, LoadsFromAFileWithPathsFromItsFolder) {
     EXPECT_EQ(c.materials[0].input, std::filesystem::path(dir + "/m.bsdf").lexically_normal().string());
     EXPECT_THROW(batch::load_batch_config(dir + "/none.yaml"), npf::Error);
     EXPECT_THROW(batch::load_batch_config(dir), npf::Error);
+}
+
+// The batch's own files are never inputs (docs/batch.md): a glob over the output folder leaves
+// out the outputs (any name that fits `naming`), the work folder with its locks, the renders,
+// the summaries (by name, and any summary by its contents) and the configuration itself, also
+// when the folder is reached through a symbolic link. A literal path to one is an error.
+TEST(BatchConfig, TheBatchsOwnFilesAreNeverInputs) {
+    namespace fs = std::filesystem;
+    const std::string dir = npf::testing::temporary_folder("batch-own-files");
+    const std::string lib = dir + "/lib";
+    fs::create_directories(lib + "/.npf-batch/shard-0-of-1");
+    fs::create_directories(lib + "/renders");
+    fs::create_directories(dir + "/sums");
+    for (const char* f : {"a.bsdf", "b.binary", "a_npf.exr", "old_npf.exr", "batch-summary.json", "batch-summary.md",
+                          "batch-summary.shard-1-of-2.json", ".npf-batch/shard-0-of-1.lock", ".npf-batch/shard-0-of-1/a_npf.exr",
+                          "renders/a_npf.npf.exr", "renders/a_npf.reference.exr"})
+        npf::testing::write_text(lib + "/" + f, "x");
+    // Summaries written elsewhere (--summary, merges) are known by their first bytes.
+    npf::testing::write_text(dir + "/sums/merged.json", "{\n  \"npf_batch_summary\": 1,\n");
+    npf::testing::write_text(dir + "/sums/merged.md", "# npf batch summary\n\n");
+    npf::testing::write_text(dir + "/sums/c.bsdf", "x");
+    fs::create_directory_symlink(lib, dir + "/link");
+    const std::string cfg = lib + "/batch.yaml";
+    npf::testing::write_text(cfg, "output_dir: .\nnaming: '{name}_npf.exr'\n"
+                                  "inputs: ['*', '.npf-batch/*', '.npf-batch/*/*', 'renders/*', '../sums/*', '../link/*.yaml']\n");
+    const batch::BatchConfig c = batch::load_batch_config(cfg);
+    std::vector<std::string> names;
+    for (const batch::MaterialJob& m : c.materials) names.push_back(m.name);
+    EXPECT_EQ(names, (std::vector<std::string>{"a", "b", "c"}));
+    EXPECT_EQ(c.excluded.size(), 13u);
+    // The globs that matched only the batch's own files say so.
+    ASSERT_EQ(c.warnings.size(), 4u);
+    for (const std::string& w : c.warnings) EXPECT_TRUE(contains(w, "matches only files the batch writes")) << w;
+    EXPECT_EQ(batch::batch_file_kind(c, lib + "/zzz_npf.exr"), "an output of the batch (naming '{name}_npf.exr')");
+    EXPECT_EQ(batch::batch_file_kind(c, dir + "/link/.npf-batch/x"), "in the batch's work folder (.npf-batch)");
+    EXPECT_EQ(batch::batch_file_kind(c, lib + "/a.bsdf"), "");
+
+    // Literal paths to the batch's files are refused, naming the key.
+    const auto error_in = [&](const std::string& yaml) {
+        try {
+            batch::parse_batch_config(yaml, "cfg.yaml", dir);
+        } catch (const npf::Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_TRUE(contains(error_in("output_dir: lib\ninputs: [lib/a.bsdf, lib/x.exr]\n"),
+                         "cfg.yaml:2: key 'inputs': '" + lib + "/x.exr' is an output of the batch"));
+    EXPECT_TRUE(contains(error_in("output_dir: lib\ninputs: lib/a.bsdf\nmaterials:\n  s: {input: lib/batch-summary.md}\n"),
+                         "key 'materials.s.input': '" + lib + "/batch-summary.md' is the batch's summary"));
+    EXPECT_TRUE(contains(error_in("output_dir: out\ninputs: [lib/a.bsdf, sums/merged.json]\n"), "is an npf batch summary"));
+}
+
+// memory_limit and time_limit: settings per material (and flags), checked where they are
+// written, and outside the content hash (they decide whether a conversion ends, not its bytes).
+TEST(BatchConfig, LimitsAreSettingsOutsideTheHash) {
+    const batch::BatchConfig c = parse("output_dir: out\ninputs: ['*.bsdf']\n"
+                                       "defaults: {preset: preview, memory_limit: 2 GiB, time_limit: 30 min}\n"
+                                       "materials:\n  b: {memory_limit: 512M, time_limit: none}\n");
+    ASSERT_EQ(c.materials.size(), 2u);
+    const batch::MaterialLimits a = batch::resolve_limits(c.materials[0].settings), b = batch::resolve_limits(c.materials[1].settings);
+    EXPECT_EQ(a.memory_bytes, std::uint64_t(2) << 30);
+    EXPECT_DOUBLE_EQ(a.seconds, 1800.0);
+    EXPECT_EQ(b.memory_bytes, std::uint64_t(512) << 20);
+    EXPECT_EQ(b.seconds, 0.0);
+    const batch::MaterialLimits d = batch::resolve_limits({});
+    EXPECT_EQ(d.memory_bytes, batch::kDefaultMemoryLimit);
+    EXPECT_EQ(d.seconds, batch::kDefaultTimeLimit);
+    EXPECT_EQ(batch::canonical_settings(c.materials[0].settings), "preset=preview\n");
+    const batch::BatchConfig plain = parse("output_dir: out\ninputs: ['*.bsdf']\ndefaults: {preset: preview}\n");
+    EXPECT_EQ(batch::material_hash(c.materials[0], true), batch::material_hash(plain.materials[0], true));
+
+    EXPECT_EQ(batch::parse_memory_limit("8 GiB", "x"), std::uint64_t(8) << 30);
+    EXPECT_EQ(batch::parse_memory_limit("1.5g", "x"), std::uint64_t(3) << 29);
+    EXPECT_EQ(batch::parse_memory_limit("none", "x"), 0u);
+    EXPECT_DOUBLE_EQ(batch::parse_time_limit("6 h", "x"), 21600.0);
+    EXPECT_DOUBLE_EQ(batch::parse_time_limit("2.5", "x"), 2.5);
+    EXPECT_EQ(batch::describe_memory(std::uint64_t(8) << 30), "8 GiB");
+    EXPECT_EQ(batch::describe_memory(std::uint64_t(3) << 29), "1.5 GiB");
+    EXPECT_EQ(batch::describe_memory(std::uint64_t(512) << 20), "512 MiB");
+    EXPECT_EQ(batch::describe_seconds(3600), "3600 s");
+    struct Case {
+        std::string yaml, expected;
+    };
+    const Case cases[] = {
+        {"defaults: {memory_limit: 8}", "cfg.yaml:3: key 'defaults.memory_limit': needs a unit"},
+        {"defaults: {memory_limit: 1 MiB}", "key 'defaults.memory_limit': must be at least 64 MiB"},
+        {"defaults: {memory_limit: lots}", "key 'defaults.memory_limit': expects a size"},
+        {"defaults: {time_limit: 0}", "key 'defaults.time_limit': must be above 0"},
+        {"defaults: {time_limit: 2 days}", "key 'defaults.time_limit': unit 'days' is not one of s, min, h"},
+        {"materials:\n  a: {time_limit: -1}", "cfg.yaml:4: key 'materials.a.time_limit': expects seconds"},
+    };
+    for (const Case& k : cases) {
+        const std::string e = error_of("output_dir: out\ninputs: ['*.bsdf']\n" + k.yaml + "\n");
+        EXPECT_TRUE(contains(e, k.expected)) << k.yaml << "\nerror: " << e << "\nexpected: " << k.expected;
+    }
 }
 
 TEST(BatchConfig, TheShippedExampleIsValid) {

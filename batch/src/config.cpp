@@ -9,8 +9,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -133,6 +135,14 @@ void check_value(const std::string& origin, const std::string& key, const std::s
     else if (k == "render.size") whole(origin, key, v, 16, 4096);
     else if (k == "render.spp") whole(origin, key, v, 1, 1 << 20);
     else if (k == "render.seed") whole(origin, key, v, 0, 2147483647);
+    else if (k == "memory_limit" || k == "time_limit") {
+        try {
+            if (k == "memory_limit") parse_memory_limit(v, key);
+            else parse_time_limit(v, key);
+        } catch (const Error& e) {
+            bad(origin, key, e.problem());
+        }
+    }
     // edit and render.env are paths, checked when used.
 }
 
@@ -226,6 +236,85 @@ std::vector<std::string> expand_glob(const std::string& pattern) {
 
 std::string stem_of(const std::string& path) { return fs::path(path).stem().string(); }
 
+bool starts_with(const std::string& s, const std::string& p) { return s.size() >= p.size() && s.compare(0, p.size(), p) == 0; }
+bool ends_with(const std::string& s, const std::string& p) {
+    return s.size() >= p.size() && s.compare(s.size() - p.size(), p.size(), p) == 0;
+}
+
+// A path with its symbolic links resolved as far as it exists, so that a folder reached two ways
+// is recognised (the lexical path when that fails).
+fs::path resolved(const std::string& path) {
+    std::error_code ec;
+    fs::path p = fs::weakly_canonical(fs::path(path), ec);
+    return ec ? fs::path(path).lexically_normal() : p;
+}
+
+bool is_under(const fs::path& p, const fs::path& dir) {
+    auto d = dir.begin(), q = p.begin();
+    for (; d != dir.end(); ++d, ++q) {
+        if (q == p.end() || *q != *d) return false;
+    }
+    return q != p.end();
+}
+
+// Whether `file` is `naming` with one name put in for every {name}.
+bool fits_naming(const std::string& file, const std::string& naming) {
+    std::size_t fixed = naming.size(), count = 0;
+    for (std::size_t at = naming.find("{name}"); at != std::string::npos; at = naming.find("{name}", at + 6)) fixed -= 6, ++count;
+    if (count == 0 || file.size() <= fixed || (file.size() - fixed) % count != 0) return false;
+    const std::size_t first = naming.find("{name}");
+    const std::string name = file.substr(first, (file.size() - fixed) / count);
+    std::string expected = naming;
+    for (std::size_t at; (at = expected.find("{name}")) != std::string::npos;) expected.replace(at, 6, name);
+    return expected == file;
+}
+
+// A summary by its first bytes (summary_json and summary_markdown begin so), wherever it was
+// written: --summary, shard summaries, merged ones.
+bool is_summary_file(const fs::path& p) {
+    const std::string ext = p.extension().string();
+    if (ext != ".json" && ext != ".md") return false;
+    std::ifstream in(p, std::ios::binary);
+    char head[64] = {};
+    in.read(head, sizeof head);
+    std::string text(head, std::size_t(in.gcount()));
+    text.erase(std::remove_if(text.begin(), text.end(), [](char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t'; }),
+               text.end());
+    return starts_with(text, "{\"npf_batch_summary\"") || starts_with(text, "#npfbatchsummary");
+}
+
+// Everything the batch writes or owns, resolved once per configuration.
+class OwnFiles {
+public:
+    explicit OwnFiles(const BatchConfig& c)
+        : m_out(resolved(c.output_dir)), m_naming(c.naming),
+          m_summary(resolved(c.summary.empty() ? (fs::path(c.output_dir) / "batch-summary").string() : c.summary)),
+          m_config(c.path.empty() ? fs::path() : resolved(c.path)) {}
+
+    std::string kind(const std::string& path) const {
+        // The folder resolved, the name kept: a link at an output's name is still an output.
+        const fs::path given = fs::path(path).lexically_normal();
+        const fs::path p = resolved(given.parent_path().string()) / given.filename();
+        if (is_under(p, m_out / ".npf-batch")) return "in the batch's work folder (.npf-batch)";
+        if (is_under(p, m_out / "renders")) return "a validation render of the batch";
+        const std::string file = p.filename().string();
+        if (p.parent_path() == m_out && fits_naming(file, m_naming)) return "an output of the batch (naming '" + m_naming + "')";
+        const std::string base = m_summary.filename().string();
+        if (p.parent_path() == m_summary.parent_path() &&
+            (file == base + ".json" || file == base + ".md" ||
+             (starts_with(file, base + ".shard-") && (ends_with(file, ".json") || ends_with(file, ".md")))))
+            return "the batch's summary";
+        if (!m_config.empty() && (p == m_config || resolved(path) == m_config)) return "the batch's configuration";
+        if (is_summary_file(p)) return "an npf batch summary";
+        return "";
+    }
+
+private:
+    fs::path m_out;
+    std::string m_naming;
+    fs::path m_summary, m_config;
+};
+
 std::vector<std::string> settings_keys() {
     std::vector<std::string> keys = setting_names();
     keys.erase(std::remove_if(keys.begin(), keys.end(), [](const std::string& k) { return k.rfind("render.", 0) == 0; }),
@@ -239,7 +328,7 @@ const std::vector<std::string>& setting_names() {
     static const std::vector<std::string> names = {
         "preset", "wavelengths", "max_wavelengths", "isotropy", "grid", "g_grid", "phi_d_samples", "pca", "rank",
         "importance", "compressive", "epsilon", "volume_weight", "iterations", "tolerance", "g_prior", "plain",
-        "error_pairs", "target_psnr", "threads", "edit", "render", "render.size", "render.spp", "render.seed", "render.env",
+        "error_pairs", "target_psnr", "threads", "memory_limit", "time_limit", "edit", "render", "render.size", "render.spp", "render.seed", "render.env",
         "render.threads"};
     return names;
 }
@@ -317,16 +406,110 @@ RenderCheck resolve_render_check(const Settings& s) {
     return r;
 }
 
+namespace {
+
+std::string trimmed(const std::string& v) {
+    const std::size_t a = v.find_first_not_of(" \t"), b = v.find_last_not_of(" \t");
+    return a == std::string::npos ? std::string() : v.substr(a, b - a + 1);
+}
+
+// The number a value starts with, and the rest (trimmed); false when it does not start with one.
+bool number_and_unit(const std::string& v, double& number, std::string& unit) {
+    const std::string t = trimmed(v);
+    if (t.empty() || !(std::isdigit(static_cast<unsigned char>(t[0])) || t[0] == '.')) return false;
+    char* end = nullptr;
+    number = std::strtod(t.c_str(), &end);
+    unit = trimmed(end);
+    return end != t.c_str() && std::isfinite(number);
+}
+
+std::string lower(std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+std::string shortest(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.4g", v);
+    return b;
+}
+
+}  // namespace
+
+std::uint64_t parse_memory_limit(const std::string& text, const std::string& what) {
+    if (lower(trimmed(text)) == "none") return 0;
+    double n = 0;
+    std::string unit;
+    const auto fail = [&](const std::string& problem) -> std::uint64_t { throw Error(what, problem + ", got '" + text + "'"); };
+    if (!number_and_unit(text, n, unit)) return fail("expects a size such as 8 GiB, 512 MiB or none");
+    const std::string u = lower(unit);
+    static const std::pair<const char*, int> units[] = {{"k", 1}, {"m", 2}, {"g", 3}, {"t", 4}};
+    int power = -1;
+    for (const auto& [name, p] : units) {
+        const std::string b = name;
+        if (u == b || u == b + "b" || u == b + "ib") power = p;
+    }
+    if (power < 0) return fail("needs a unit: K, M, G or T (powers of 1024, as KiB, MiB, GiB, TiB)");
+    const double bytes = n * std::pow(1024.0, power);
+    if (!(bytes >= double(64u << 20))) return fail("must be at least 64 MiB (or none)");
+    if (!(bytes <= std::ldexp(1.0, 62))) return fail("is too large (or use none)");
+    return std::uint64_t(bytes);
+}
+
+double parse_time_limit(const std::string& text, const std::string& what) {
+    if (lower(trimmed(text)) == "none") return 0.0;
+    double n = 0;
+    std::string unit;
+    if (!number_and_unit(text, n, unit)) throw Error(what, "expects seconds, or a time such as 90 s, 30 min, 6 h, or none, got '" + text + "'");
+    const std::string u = lower(unit);
+    double scale = 0;
+    if (u.empty() || u == "s" || u == "sec" || u == "seconds") scale = 1;
+    else if (u == "min" || u == "minutes") scale = 60;
+    else if (u == "h" || u == "hours") scale = 3600;
+    if (scale == 0) throw Error(what, "unit '" + unit + "' is not one of s, min, h, got '" + text + "'");
+    const double seconds = n * scale;
+    if (!(seconds > 0.0 && seconds <= 1e9)) throw Error(what, "must be above 0 (or none), got '" + text + "'");
+    return seconds;
+}
+
+std::string describe_memory(std::uint64_t bytes) {
+    if (bytes == 0) return "none";
+    static const char* names[] = {"KiB", "MiB", "GiB", "TiB"};
+    int i = 3;
+    while (i > 0 && double(bytes) < std::ldexp(1.0, 10 * (i + 1))) --i;
+    return shortest(double(bytes) / std::ldexp(1.0, 10 * (i + 1))) + " " + names[i];
+}
+
+std::string describe_seconds(double seconds) {
+    if (seconds <= 0.0) return "none";
+    char b[40];
+    std::snprintf(b, sizeof b, "%g s", seconds);
+    return b;
+}
+
+MaterialLimits resolve_limits(const Settings& s) {
+    MaterialLimits l;
+    if (const auto i = s.find("memory_limit"); i != s.end()) l.memory_bytes = parse_memory_limit(i->second.value, i->second.origin);
+    if (const auto i = s.find("time_limit"); i != s.end()) l.seconds = parse_time_limit(i->second.value, i->second.origin);
+    return l;
+}
+
+std::string batch_file_kind(const BatchConfig& config, const std::string& path) { return OwnFiles(config).kind(path); }
+
 std::string canonical_settings(const Settings& settings) {
     std::string text;
     for (const auto& [k, v] : settings) {
-        if (k == "threads" || k == "edit" || k == "render" || k.rfind("render.", 0) == 0) continue;
+        if (k == "threads" || k == "memory_limit" || k == "time_limit" || k == "edit" || k == "render" ||
+            k.rfind("render.", 0) == 0)
+            continue;
         text += k + "=" + v.value + "\n";
     }
     return text;
 }
 
-BatchConfig parse_batch_config(const std::string& yaml, const std::string& source, const std::string& base_dir) {
+namespace {
+
+BatchConfig parse_config(const std::string& yaml, const std::string& source, const std::string& base_dir, const std::string& config_path) {
     Reader rd;
     rd.source = source;
     rd.base_dir = base_dir;
@@ -341,6 +524,7 @@ BatchConfig parse_batch_config(const std::string& yaml, const std::string& sourc
     rd.only(root, "", {"version", "description", "output_dir", "naming", "summary", "inputs", "defaults", "materials"});
 
     BatchConfig c;
+    c.path = config_path;
     c.base_dir = base_dir;
     if (root["version"] && rd.scalar(root["version"], "version") != "1") rd.fail(root["version"], "version", "only version 1 is known");
     if (root["description"]) rd.scalar(root["description"], "description");
@@ -354,6 +538,13 @@ BatchConfig parse_batch_config(const std::string& yaml, const std::string& sourc
             rd.fail(root["naming"], "naming", "must end in .exr");
     }
     if (root["summary"]) c.summary = rd.path(root["summary"], "summary");
+    // The batch's own files (outputs, work folder, renders, summaries, this file) are never inputs:
+    // a glob over the output folder would otherwise convert the last run's outputs on every run.
+    const OwnFiles own(c);
+    const auto refuse_own = [&](const std::string& path, const YAML::Node& node, const std::string& key) {
+        const std::string kind = own.kind(path);
+        if (!kind.empty()) rd.fail(node, key, "'" + path + "' is " + kind + "; the batch's own files are never inputs");
+    };
 
     // Inputs: name -> (path, origin).
     if (!root["inputs"]) throw Error(source, "key 'inputs' is required");
@@ -378,13 +569,25 @@ BatchConfig parse_batch_config(const std::string& yaml, const std::string& sourc
     for (const YAML::Node& n : entries) {
         const std::string pattern = rd.path(n, "inputs");
         if (has_wildcard(pattern)) {
-            const std::vector<std::string> matches = expand_glob(pattern);
-            if (matches.empty()) c.warnings.push_back(rd.where(n) + ": '" + pattern + "' matches no file");
+            std::vector<std::string> matches = expand_glob(pattern);
+            const std::size_t matched = matches.size();
+            matches.erase(std::remove_if(matches.begin(), matches.end(),
+                                         [&](const std::string& m) {
+                                             if (own.kind(m).empty()) return false;
+                                             if (std::find(c.excluded.begin(), c.excluded.end(), m) == c.excluded.end()) c.excluded.push_back(m);
+                                             return true;
+                                         }),
+                          matches.end());
+            if (matched == 0) c.warnings.push_back(rd.where(n) + ": '" + pattern + "' matches no file");
+            else if (matches.empty())
+                c.warnings.push_back(rd.where(n) + ": '" + pattern + "' matches only files the batch writes (" + std::to_string(matched) +
+                                     " left out: outputs, summaries, its work folder)");
             for (const std::string& m : matches) {
                 if (seen_paths.insert(m).second) add(stem_of(m), m, rd.where(n), n, "inputs");
             }
-        } else if (seen_paths.insert(pattern).second) {
-            add(stem_of(pattern), pattern, rd.where(n), n, "inputs");
+        } else {
+            refuse_own(pattern, n, "inputs");
+            if (seen_paths.insert(pattern).second) add(stem_of(pattern), pattern, rd.where(n), n, "inputs");
         }
     }
 
@@ -412,6 +615,7 @@ BatchConfig parse_batch_config(const std::string& yaml, const std::string& sourc
             rd.only(kv.second, key, material_keys);
             if (kv.second["input"]) {
                 const std::string p = rd.path(kv.second["input"], key + ".input");
+                refuse_own(p, kv.second["input"], key + ".input");
                 if (found.count(name)) {
                     rd.fail(kv.second["input"], key + ".input",
                             "'" + name + "' is already an input (" + found[name].path + ", " + found[name].origin + ")");
@@ -448,6 +652,12 @@ BatchConfig parse_batch_config(const std::string& yaml, const std::string& sourc
     return c;
 }
 
+}  // namespace
+
+BatchConfig parse_batch_config(const std::string& yaml, const std::string& source, const std::string& base_dir) {
+    return parse_config(yaml, source, base_dir, "");
+}
+
 BatchConfig load_batch_config(const std::string& path) {
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw Error(path, "is a directory, not a batch configuration");
@@ -456,9 +666,7 @@ BatchConfig load_batch_config(const std::string& path) {
     std::ostringstream text;
     text << in.rdbuf();
     const fs::path abs = fs::absolute(path).lexically_normal();
-    BatchConfig c = parse_batch_config(text.str(), path, abs.parent_path().string());
-    c.path = abs.string();
-    return c;
+    return parse_config(text.str(), path, abs.parent_path().string(), abs.string());
 }
 
 }  // namespace npf::batch

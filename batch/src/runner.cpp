@@ -1,5 +1,7 @@
 #include <npf/batch/runner.h>
 
+#include "worker_process.h"
+
 #include <npf/batch/content_hash.h>
 #include <npf/converter/convert.h>
 #include <npf/converter/open_brdf.h>
@@ -16,6 +18,7 @@
 #include <OpenImageIO/imageio.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -27,10 +30,15 @@
 #include <optional>
 
 #include <ctime>
+#include <csignal>
+#include <fstream>
+#include <new>
 
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <sys/file.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #ifndef NPF_VERSION_STRING
@@ -196,6 +204,7 @@ void clear_folder(const std::string& dir) {
 
 void move_into_place(const std::string& from, const std::string& to) {
     std::error_code ec;
+    fs::create_directories(fs::path(to).parent_path(), ec);
     fs::rename(from, to, ec);
     if (ec) throw Error(to, "cannot move the finished file into place: " + ec.message());
 }
@@ -251,6 +260,390 @@ std::string fmt(const char* format, double v) {
     return b;
 }
 
+bool ends_with(const std::string& s, const char* tail) {
+    const std::size_t n = std::strlen(tail);
+    return s.size() >= n && s.compare(s.size() - n, n, tail) == 0;
+}
+
+std::string hash_text(const MaterialJob& job, bool source_isotropic, const std::string& input_sha) {
+    std::string t = "npf batch content hash " + std::to_string(kContentHashVersion) + "\n";
+    t += "npf " NPF_VERSION_STRING ", texture format " + std::to_string(npf_exr::kFormatVersion) + "\n";
+    t += "input " + input_sha + "\n";
+    t += resolved_text(resolve_convert_settings(job.settings, source_isotropic));
+    const auto e = job.settings.find("edit");
+    t += (e == job.settings.end() || e->second.value.empty()) ? "edit none\n" : edit_hash_text(e->second.value);
+    return sha256_hex(t);
+}
+
+std::string render_hash_of(const std::string& material_hash, const RenderCheck& check) {
+    const std::string env = check.env.empty() ? render::default_environment_map_path() : check.env;
+    return sha256_hex(material_hash + "\nrender size=" + std::to_string(check.size) + " spp=" + std::to_string(check.spp) +
+                      " seed=" + std::to_string(check.seed) + " sampling=env floor=paired\nenv " + sha256_file(env) + "\n");
+}
+
+// How a material is processed: in this process, or in a worker whose finished files the parent
+// moves into place (so that a worker killed at any point publishes nothing).
+struct MaterialContext {
+    std::string stage;
+    bool force = false;
+    int shard = 0;
+    bool in_worker = false;
+    std::uint64_t memory_limit = 0;  // the worker's, for messages
+    std::map<std::string, render::EnvironmentMap> environments;
+    std::vector<std::pair<std::string, std::string>> moves;  // worker: (staged, final), in order
+
+    // Where the finished file is to be read from afterwards.
+    std::string publish(const std::string& from, const std::string& to) {
+        if (in_worker) {
+            moves.emplace_back(from, to);
+            return from;
+        }
+        move_into_place(from, to);
+        return to;
+    }
+};
+
+std::string memory_note(std::uint64_t limit) { return limit ? "limit " + describe_memory(limit) : "no memory limit"; }
+
+// Test-only (docs/batch.md "Failure isolation"): NPF_TEST_FAULT=KIND:NAME[,KIND:NAME...] makes
+// material NAME fail the way a broken reader can (abort, segv, oom, hang, kill, exit), so that
+// the tests can show that the batch survives it. In a worker only, but for `oom`, which in this
+// process throws std::bad_alloc (the rest would end the caller's process).
+void apply_test_fault(const std::string& name, const MaterialContext& ctx) {
+    const char* env = std::getenv("NPF_TEST_FAULT");
+    if (!env) return;
+    const std::string spec = env;
+    for (std::size_t at = 0; at <= spec.size();) {
+        const std::size_t comma = std::min(spec.find(',', at), spec.size());
+        const std::string item = spec.substr(at, comma - at);
+        at = comma + 1;
+        const std::size_t colon = item.find(':');
+        if (colon == std::string::npos || item.substr(colon + 1) != name) continue;
+        const std::string kind = item.substr(0, colon);
+        if (kind == "oom") {
+            if (!ctx.in_worker || ctx.memory_limit == 0) throw std::bad_alloc();
+            // Memory until the limit refuses it (RLIMIT_DATA counts it untouched).
+            std::vector<void*> blocks;
+            const std::size_t block = std::size_t(64) << 20;
+            try {
+                for (std::uint64_t total = 0; total <= ctx.memory_limit; total += block) blocks.push_back(::operator new(block));
+            } catch (...) {
+                for (void* b : blocks) ::operator delete(b);
+                throw;
+            }
+            for (void* b : blocks) ::operator delete(b);
+            throw std::bad_alloc();
+        }
+        if (!ctx.in_worker) continue;
+        const struct rlimit no_core {0, 0};
+        ::setrlimit(RLIMIT_CORE, &no_core);  // no core files from a test
+        if (kind == "abort") std::abort();
+        if (kind == "segv") {
+            std::signal(SIGSEGV, SIG_DFL);
+            std::raise(SIGSEGV);
+        }
+        if (kind == "kill") std::raise(SIGKILL);
+        if (kind == "exit") std::_Exit(9);
+        if (kind == "hang") {
+            for (;;) ::pause();
+        }
+    }
+}
+
+// One material: checked against its output's hash, converted, edited, stamped, written, and
+// rendered when asked; every problem becomes its failed status and reason.
+MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
+    std::error_code ec;
+    MaterialResult r;
+    r.name = job.name;
+    r.input = job.input;
+    r.output = job.output;
+    r.shard = ctx.shard;
+    const std::string fit_path = (fs::path(ctx.stage) / (job.name + ".fit.exr")).string();
+    const std::string final_stage = (fs::path(ctx.stage) / (job.name + ".exr")).string();
+    try {
+        apply_test_fault(job.name, ctx);
+        if (!fs::is_regular_file(job.input, ec)) {
+            throw Error(job.input, fs::exists(job.input, ec) ? "not a regular file" : "no such file (named at " + job.origin + ")");
+        }
+        r.input_bytes = file_size(job.input);
+        const std::unique_ptr<Brdf> source = open_material(job.input);
+        r.input_bytes = source->info().file_bytes;  // 0 for analytic recipes: no ratio
+        const bool isotropic = source->info().isotropic;
+        r.hash = material_hash(job, isotropic);
+        const RenderCheck check = resolve_render_check(job.settings);
+
+        const auto header = header_of(job.output, true);
+        const std::string m = npf_exr::kMetadataPrefix;
+        const bool up_to_date = !ctx.force && header && header->count(m + npf_exr::kMetaBatchHash) &&
+                                header->at(m + npf_exr::kMetaBatchHash) == r.hash;
+        std::string render_hash;
+        std::optional<std::map<std::string, std::string>> render_header;
+        if (check.enabled) {
+            render_hash = render_hash_of(r.hash, check);
+            render_header = header_of(render_file(job, "npf"), false);
+        }
+        const bool render_up_to_date = !check.enabled || (up_to_date && render_header && render_header->count("npf:batch_hash") &&
+                                                          render_header->at("npf:batch_hash") == render_hash &&
+                                                          fs::is_regular_file(render_file(job, "reference"), ec));
+
+        std::string output = job.output;  // where the output is read from below
+        if (!up_to_date) {
+            ConvertSettings s = resolve_convert_settings(job.settings, isotropic);
+            const ConvertReport rep = convert_material(*source, fit_path, s);
+            NpfModel model = read_npf_texture(fit_path);
+            fs::remove(fit_path, ec);
+            const auto e = job.settings.find("edit");
+            if (e != job.settings.end() && !e->second.value.empty()) {
+                const edit::EditRecipe recipe = edit::load_edit_recipe(e->second.value);
+                edit::EditResult edited = edit::apply_edits(model, recipe.steps, recipe.options);
+                model = std::move(edited.model);
+            }
+            model.metadata.emplace_back(npf_exr::kMetaBatchName, job.name);
+            model.metadata.emplace_back(npf_exr::kMetaBatchSettings, canonical_settings(job.settings));
+            model.metadata.emplace_back(npf_exr::kMetaBatchHash, r.hash);
+            write_npf_texture(model, final_stage);
+            pin_capture_date(final_stage, job.input);
+            output = ctx.publish(final_stage, job.output);
+            if (rep.fit.invalid_values > 0) r.reason = std::to_string(rep.fit.invalid_values) + " invalid source values ignored";
+            r.status = MaterialStatus::Converted;
+        } else {
+            r.status = MaterialStatus::Skipped;
+        }
+        r.output_bytes = file_size(output);
+        if (const auto h = header_of(output, true)) fill_from_header(r, *h);
+
+        if (check.enabled && !render_up_to_date) {
+            const std::string env_path = check.env.empty() ? render::default_environment_map_path() : check.env;
+            auto it = ctx.environments.find(env_path);
+            if (it == ctx.environments.end()) it = ctx.environments.emplace(env_path, render::EnvironmentMap::load(env_path)).first;
+            // Paired (docs/metrics.md sec. 5): environment sampling only at one seed, so both
+            // images are estimated at the same light directions; the pair again at the next
+            // seed gives the PSNR's noise floor.
+            render::RenderOptions ro;
+            ro.width = ro.height = check.size;
+            ro.spp = check.spp;
+            ro.seed = check.seed;
+            ro.threads = check.threads;
+            ro.sampling = render::Sampling::Environment;
+            const std::unique_ptr<Brdf> fitted = open_brdf(output);
+            const render::RenderResult reference = render::render(*source, it->second, ro);
+            const render::RenderResult test = render::render(*fitted, it->second, ro);
+            render::RenderOptions ro2 = ro;
+            ro2.seed = check.seed + 1;
+            const render::RenderResult reference2 = render::render(*source, it->second, ro2);
+            const render::RenderResult test2 = render::render(*fitted, it->second, ro2);
+            const render::ImageMetrics metrics = render::compare_images(reference.image, test.image, {}, "reference", "npf");
+            const render::NoiseFloor floor =
+                render::paired_noise_floor(reference.image, test.image, reference2.image, test2.image, {}, "reference", "npf");
+            r.psnr = metrics.psnr, r.ssim = metrics.ssim, r.relmse = metrics.relmse;
+            r.psnr_floor = floor.psnr;
+            render::RenderMetadata ref_meta = render::describe_render(reference, ro, it->second);
+            ref_meta.insert(ref_meta.begin(), {"npf:material", job.input});
+            ref_meta.emplace_back("npf:batch_hash", render_hash);
+            render::RenderMetadata npf_meta = render::describe_render(test, ro, it->second);
+            npf_meta.insert(npf_meta.begin(), {"npf:material", job.output});
+            npf_meta.emplace_back("npf:batch_hash", render_hash);
+            npf_meta.emplace_back("npf:batch_psnr", fmt("%.9g", metrics.psnr));
+            npf_meta.emplace_back("npf:batch_psnr_floor", fmt("%.9g", floor.psnr));
+            npf_meta.emplace_back("npf:batch_ssim", fmt("%.9g", metrics.ssim));
+            npf_meta.emplace_back("npf:batch_relmse", fmt("%.9g", metrics.relmse));
+            const std::string ref_stage = (fs::path(ctx.stage) / (job.name + ".reference.exr")).string();
+            const std::string npf_stage = (fs::path(ctx.stage) / (job.name + ".npf.exr")).string();
+            render::write_render_exr(ref_stage, reference, ref_meta);
+            render::write_render_exr(npf_stage, test, npf_meta);
+            ctx.publish(ref_stage, render_file(job, "reference"));
+            ctx.publish(npf_stage, render_file(job, "npf"));  // last: its hash says both are done
+            if (r.status == MaterialStatus::Skipped) r.reason = "validation render redone";
+        } else if (check.enabled && render_header) {
+            fill_from_render_header(r, *render_header);
+        }
+    } catch (const std::bad_alloc&) {
+        r.status = MaterialStatus::Failed;
+        r.reason = job.input + ": ran out of memory (" + memory_note(ctx.memory_limit) + ")";
+    } catch (const Error& e) {
+        r.status = MaterialStatus::Failed;
+        r.reason = e.what();
+    } catch (const std::exception& e) {
+        r.status = MaterialStatus::Failed;
+        r.reason = job.input + ": internal error: " + e.what();
+    }
+    return r;
+}
+
+// The parent's check before it starts a worker: whether the output (and its renders) are up to
+// date, from the input's bytes and the output's header alone. The input is not opened as a
+// material (a reader that crashes must crash in a worker), so its isotropy is unknown: the
+// output is up to date when its hash is the one for either isotropy, which for the same input
+// bytes and npf version only the real one can have produced. Nothing: leave it to the worker.
+std::optional<MaterialResult> up_to_date_result(const MaterialJob& job, int shard) {
+    try {
+        std::error_code ec;
+        if (!fs::is_regular_file(job.input, ec)) return std::nullopt;
+        const auto header = header_of(job.output, true);
+        const std::string key = std::string(npf_exr::kMetadataPrefix) + npf_exr::kMetaBatchHash;
+        if (!header || !header->count(key)) return std::nullopt;
+        const std::string input_sha = sha256_file(job.input);
+        const std::string& stored = header->at(key);
+        if (stored != hash_text(job, true, input_sha) && stored != hash_text(job, false, input_sha)) return std::nullopt;
+        MaterialResult r;
+        r.name = job.name;
+        r.input = job.input;
+        r.output = job.output;
+        r.shard = shard;
+        r.status = MaterialStatus::Skipped;
+        r.hash = stored;
+        const RenderCheck check = resolve_render_check(job.settings);
+        if (check.enabled) {
+            const auto render_header = header_of(render_file(job, "npf"), false);
+            if (!render_header || !render_header->count("npf:batch_hash") ||
+                render_header->at("npf:batch_hash") != render_hash_of(stored, check) ||
+                !fs::is_regular_file(render_file(job, "reference"), ec))
+                return std::nullopt;
+            fill_from_render_header(r, *render_header);
+        }
+        // As open_material's file_bytes: 0 for an analytic recipe (chosen by its name).
+        r.input_bytes = ends_with(job.input, ".yaml") || ends_with(job.input, ".yml") ? 0 : file_size(job.input);
+        r.output_bytes = file_size(job.output);
+        fill_from_header(r, *header);
+        return r;
+    } catch (const std::exception&) {
+        return std::nullopt;  // the worker reports it
+    }
+}
+
+// The job file a worker reads (YAML): the material, the stage folder and where its answers go.
+void write_job(const std::string& path, const MaterialJob& job, const MaterialContext& ctx, const std::string& result,
+               const std::string& moves) {
+    YAML::Emitter out;
+    // Quoted, so that no text reads back as null, a number or a boolean.
+    const auto q = [&out](const std::string& text) { out << YAML::DoubleQuoted << text; };
+    out << YAML::BeginMap;
+    out << YAML::Key << "npf_batch_worker_job" << YAML::Value << 1;
+    out << YAML::Key << "parent" << YAML::Value << long(::getpid());
+    out << YAML::Key << "name" << YAML::Value;
+    q(job.name);
+    out << YAML::Key << "input" << YAML::Value;
+    q(job.input);
+    out << YAML::Key << "output" << YAML::Value;
+    q(job.output);
+    out << YAML::Key << "origin" << YAML::Value;
+    q(job.origin);
+    out << YAML::Key << "stage" << YAML::Value;
+    q(ctx.stage);
+    out << YAML::Key << "force" << YAML::Value << ctx.force;
+    out << YAML::Key << "shard" << YAML::Value << ctx.shard;
+    out << YAML::Key << "memory_limit" << YAML::Value << std::to_string(ctx.memory_limit);
+    out << YAML::Key << "result" << YAML::Value;
+    q(result);
+    out << YAML::Key << "moves" << YAML::Value;
+    q(moves);
+    out << YAML::Key << "settings" << YAML::Value << YAML::BeginMap;
+    for (const auto& [k, v] : job.settings) {
+        out << YAML::Key << k << YAML::Value << YAML::Flow << YAML::BeginSeq;
+        q(v.value);
+        q(v.origin);
+        out << YAML::EndSeq;
+    }
+    out << YAML::EndMap << YAML::EndMap;
+    std::ofstream f(path, std::ios::binary | std::ios::trunc);
+    f << out.c_str() << "\n";
+    f.close();
+    if (!f) throw Error(path, "cannot write the worker's job file");
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+    std::ofstream f(path, std::ios::binary | std::ios::trunc);
+    f << text;
+    f.close();
+    if (!f) throw Error(path, "cannot write");
+}
+
+// Runs one material in a worker process under its limits and turns however it ended into a
+// result: the worker's own, or a failure naming the input and why (signal, limit, exit status).
+MaterialResult run_in_worker(const MaterialJob& job, const std::string& executable, const std::string& stage, bool force, int shard) {
+    MaterialResult failed;
+    failed.name = job.name;
+    failed.input = job.input;
+    failed.output = job.output;
+    failed.shard = shard;
+    failed.status = MaterialStatus::Failed;
+    MaterialLimits limits;
+    try {
+        limits = resolve_limits(job.settings);
+    } catch (const Error& e) {
+        failed.reason = e.what();
+        return failed;
+    }
+    if (!force) {
+        if (std::optional<MaterialResult> skipped = up_to_date_result(job, shard)) return *skipped;
+    }
+    MaterialContext ctx;
+    ctx.stage = stage;
+    ctx.force = force;
+    ctx.shard = shard;
+    ctx.memory_limit = limits.memory_bytes;
+    const fs::path base = fs::path(stage) / job.name;
+    const std::string job_file = base.string() + ".job.yaml", result = base.string() + ".result.json",
+                      moves = base.string() + ".moves.yaml", log = base.string() + ".worker.log";
+    try {
+        write_job(job_file, job, ctx, result, moves);
+    } catch (const Error& e) {
+        failed.reason = e.what();
+        return failed;
+    }
+    const detail::WorkerEnd end = detail::run_worker_process(executable, {"batch", "--worker", job_file}, log, limits.seconds);
+    const std::string tail = detail::last_line(log);
+    const std::string said = tail.empty() ? "" : " (its last words: " + tail + ")";
+    if (!end.start_error.empty()) {
+        failed.reason = "cannot start the worker process " + executable + ": " + end.start_error;
+        return failed;
+    }
+    if (end.timed_out) {
+        failed.reason = job.input + ": took longer than " + describe_seconds(limits.seconds) + " (time_limit), stopped";
+        return failed;
+    }
+    if (end.signal > 0) {
+        if (tail.find("bad_alloc") != std::string::npos) {
+            failed.reason = job.input + ": ran out of memory (" + memory_note(limits.memory_bytes) + "), " + detail::signal_text(end.signal);
+        } else {
+            failed.reason = job.input + ": killed by " + detail::signal_text(end.signal);
+            if (end.signal == SIGKILL)
+                failed.reason += " from outside, at " + describe_memory(std::uint64_t(end.peak_resident_bytes)) +
+                                 " resident (the system's out-of-memory killer?)";
+            failed.reason += said;
+        }
+        return failed;
+    }
+    if (end.exited && end.exit_code != 0) {
+        failed.reason = job.input + ": the worker process exited with status " + std::to_string(end.exit_code) + said;
+        return failed;
+    }
+    // Ended normally (or its status was lost): its answer, and the files it finished.
+    BatchSummary answer;
+    std::vector<std::pair<std::string, std::string>> to_move;
+    try {
+        answer = read_summary_json(result);
+        const YAML::Node list = YAML::LoadFile(moves);
+        for (const YAML::Node& m : list) to_move.emplace_back(m[0].as<std::string>(), m[1].as<std::string>());
+    } catch (const std::exception& e) {
+        failed.reason = job.input + ": the worker process ended without an answer (" + std::string(e.what()) + ")" + said;
+        return failed;
+    }
+    if (answer.materials.size() != 1 || answer.materials[0].name != job.name) {
+        failed.reason = job.input + ": the worker process answered for another material";
+        return failed;
+    }
+    MaterialResult r = answer.materials[0];
+    try {
+        for (const auto& [from, to] : to_move) move_into_place(from, to);
+    } catch (const Error& e) {
+        r.status = MaterialStatus::Failed;
+        r.reason = e.what();
+    }
+    return r;
+}
+
 }  // namespace
 
 Shard parse_shard(const std::string& text, const std::string& what) {
@@ -278,14 +671,24 @@ std::string summary_base(const BatchConfig& config, const Shard& shard) {
     return base;
 }
 
+void prepare_folder(const std::string& dir, const std::string& what, bool create) {
+    std::error_code ec;
+    const fs::path d = fs::absolute(fs::path(dir), ec).lexically_normal();
+    // The folder itself, or the nearest one above it that exists (where it would be created).
+    fs::path existing = d;
+    while (!fs::exists(existing, ec) && existing.has_relative_path()) existing = existing.parent_path();
+    const std::string how = existing == d ? "" : d.string() + " cannot be created: ";
+    if (!fs::is_directory(existing, ec)) throw Error(what, how + existing.string() + " is not a folder");
+    if (::access(existing.c_str(), W_OK | X_OK) != 0)
+        throw Error(what, how + existing.string() + " is not writable (" + std::strerror(errno) + ")");
+    if (create && existing != d) {
+        fs::create_directories(d, ec);
+        if (ec) throw Error(what, d.string() + " cannot be created: " + ec.message());
+    }
+}
+
 std::string material_hash(const MaterialJob& job, bool source_isotropic) {
-    std::string t = "npf batch content hash " + std::to_string(kContentHashVersion) + "\n";
-    t += "npf " NPF_VERSION_STRING ", texture format " + std::to_string(npf_exr::kFormatVersion) + "\n";
-    t += "input " + sha256_file(job.input) + "\n";
-    t += resolved_text(resolve_convert_settings(job.settings, source_isotropic));
-    const auto e = job.settings.find("edit");
-    t += (e == job.settings.end() || e->second.value.empty()) ? "edit none\n" : edit_hash_text(e->second.value);
-    return sha256_hex(t);
+    return hash_text(job, source_isotropic, sha256_file(job.input));
 }
 
 BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
@@ -311,125 +714,22 @@ BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
     const FileLock lock(stage + ".lock");
     clear_folder(stage);  // what a killed run left
 
-    std::map<std::string, render::EnvironmentMap> environments;
+    MaterialContext here;  // in-process: no worker executable
+    here.stage = stage;
+    here.force = options.force;
+    here.shard = options.shard.index;
     const std::vector<std::size_t> members = shard_members(config.materials.size(), options.shard);
     std::size_t done = 0;
     for (std::size_t index : members) {
         MaterialJob job = config.materials[index];
         if (options.threads > 0) job.settings["threads"] = {std::to_string(options.threads), "--threads"};
+        if (!options.memory_limit.empty()) job.settings["memory_limit"] = {options.memory_limit, "--memory-limit"};
+        if (!options.time_limit.empty()) job.settings["time_limit"] = {options.time_limit, "--time-limit"};
         const auto t0 = Clock::now();
-        MaterialResult r;
-        r.name = job.name;
-        r.input = job.input;
-        r.output = job.output;
-        r.shard = options.shard.index;
         const std::string counter = "[" + std::to_string(++done) + "/" + std::to_string(members.size()) + "] " + job.name;
-        const std::string fit_path = (fs::path(stage) / (job.name + ".fit.exr")).string();
-        const std::string final_stage = (fs::path(stage) / (job.name + ".exr")).string();
-        try {
-            if (!fs::is_regular_file(job.input, ec)) {
-                throw Error(job.input, fs::exists(job.input, ec) ? "not a regular file" : "no such file (named at " + job.origin + ")");
-            }
-            r.input_bytes = file_size(job.input);
-            const std::unique_ptr<Brdf> source = open_material(job.input);
-            r.input_bytes = source->info().file_bytes;  // 0 for analytic recipes: no ratio
-            const bool isotropic = source->info().isotropic;
-            r.hash = material_hash(job, isotropic);
-            const RenderCheck check = resolve_render_check(job.settings);
-
-            const auto header = header_of(job.output, true);
-            const std::string m = npf_exr::kMetadataPrefix;
-            const bool up_to_date = !options.force && header && header->count(m + npf_exr::kMetaBatchHash) &&
-                                    header->at(m + npf_exr::kMetaBatchHash) == r.hash;
-            std::string render_hash;
-            std::optional<std::map<std::string, std::string>> render_header;
-            if (check.enabled) {
-                const std::string env = check.env.empty() ? render::default_environment_map_path() : check.env;
-                render_hash = sha256_hex(r.hash + "\nrender size=" + std::to_string(check.size) + " spp=" +
-                                         std::to_string(check.spp) + " seed=" + std::to_string(check.seed) +
-                                         " sampling=env floor=paired\nenv " +
-                                         sha256_file(env) + "\n");
-                render_header = header_of(render_file(job, "npf"), false);
-            }
-            const bool render_up_to_date = !check.enabled || (up_to_date && render_header && render_header->count("npf:batch_hash") &&
-                                                              render_header->at("npf:batch_hash") == render_hash &&
-                                                              fs::is_regular_file(render_file(job, "reference"), ec));
-
-            if (!up_to_date) {
-                ConvertSettings s = resolve_convert_settings(job.settings, isotropic);
-                const ConvertReport rep = convert_material(*source, fit_path, s);
-                NpfModel model = read_npf_texture(fit_path);
-                fs::remove(fit_path, ec);
-                const auto e = job.settings.find("edit");
-                if (e != job.settings.end() && !e->second.value.empty()) {
-                    const edit::EditRecipe recipe = edit::load_edit_recipe(e->second.value);
-                    edit::EditResult edited = edit::apply_edits(model, recipe.steps, recipe.options);
-                    model = std::move(edited.model);
-                }
-                model.metadata.emplace_back(npf_exr::kMetaBatchName, job.name);
-                model.metadata.emplace_back(npf_exr::kMetaBatchSettings, canonical_settings(job.settings));
-                model.metadata.emplace_back(npf_exr::kMetaBatchHash, r.hash);
-                write_npf_texture(model, final_stage);
-                pin_capture_date(final_stage, job.input);
-                move_into_place(final_stage, job.output);
-                if (rep.fit.invalid_values > 0) r.reason = std::to_string(rep.fit.invalid_values) + " invalid source values ignored";
-                r.status = MaterialStatus::Converted;
-            } else {
-                r.status = MaterialStatus::Skipped;
-            }
-            r.output_bytes = file_size(job.output);
-            if (const auto h = header_of(job.output, true)) fill_from_header(r, *h);
-
-            if (check.enabled && !render_up_to_date) {
-                const std::string env_path = check.env.empty() ? render::default_environment_map_path() : check.env;
-                auto it = environments.find(env_path);
-                if (it == environments.end()) it = environments.emplace(env_path, render::EnvironmentMap::load(env_path)).first;
-                // Paired (docs/metrics.md sec. 5): environment sampling only at one seed, so both
-                // images are estimated at the same light directions; the pair again at the next
-                // seed gives the PSNR's noise floor.
-                render::RenderOptions ro;
-                ro.width = ro.height = check.size;
-                ro.spp = check.spp;
-                ro.seed = check.seed;
-                ro.threads = check.threads;
-                ro.sampling = render::Sampling::Environment;
-                const std::unique_ptr<Brdf> fitted = open_brdf(job.output);
-                const render::RenderResult reference = render::render(*source, it->second, ro);
-                const render::RenderResult test = render::render(*fitted, it->second, ro);
-                render::RenderOptions ro2 = ro;
-                ro2.seed = check.seed + 1;
-                const render::RenderResult reference2 = render::render(*source, it->second, ro2);
-                const render::RenderResult test2 = render::render(*fitted, it->second, ro2);
-                const render::ImageMetrics metrics = render::compare_images(reference.image, test.image, {}, "reference", "npf");
-                const render::NoiseFloor floor =
-                    render::paired_noise_floor(reference.image, test.image, reference2.image, test2.image, {}, "reference", "npf");
-                r.psnr = metrics.psnr, r.ssim = metrics.ssim, r.relmse = metrics.relmse;
-                r.psnr_floor = floor.psnr;
-                fs::create_directories(fs::path(job.output).parent_path() / "renders", ec);
-                render::RenderMetadata ref_meta = render::describe_render(reference, ro, it->second);
-                ref_meta.insert(ref_meta.begin(), {"npf:material", job.input});
-                ref_meta.emplace_back("npf:batch_hash", render_hash);
-                render::RenderMetadata npf_meta = render::describe_render(test, ro, it->second);
-                npf_meta.insert(npf_meta.begin(), {"npf:material", job.output});
-                npf_meta.emplace_back("npf:batch_hash", render_hash);
-                npf_meta.emplace_back("npf:batch_psnr", fmt("%.9g", metrics.psnr));
-                npf_meta.emplace_back("npf:batch_psnr_floor", fmt("%.9g", floor.psnr));
-                npf_meta.emplace_back("npf:batch_ssim", fmt("%.9g", metrics.ssim));
-                npf_meta.emplace_back("npf:batch_relmse", fmt("%.9g", metrics.relmse));
-                const std::string ref_stage = (fs::path(stage) / (job.name + ".reference.exr")).string();
-                const std::string npf_stage = (fs::path(stage) / (job.name + ".npf.exr")).string();
-                render::write_render_exr(ref_stage, reference, ref_meta);
-                render::write_render_exr(npf_stage, test, npf_meta);
-                move_into_place(ref_stage, render_file(job, "reference"));
-                move_into_place(npf_stage, render_file(job, "npf"));  // last: its hash says both are done
-                if (r.status == MaterialStatus::Skipped) r.reason = "validation render redone";
-            } else if (check.enabled && render_header) {
-                fill_from_render_header(r, *render_header);
-            }
-        } catch (const std::exception& e) {
-            r.status = MaterialStatus::Failed;
-            r.reason = e.what();
-        }
+        MaterialResult r = options.worker_executable.empty()
+                               ? process_material(job, here)
+                               : run_in_worker(job, options.worker_executable, stage, options.force, options.shard.index);
         clear_folder(stage);
         r.seconds = seconds_since(t0);
         std::string line = counter + ": " + status_name(r.status);
@@ -451,6 +751,58 @@ BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
     }
     summary.seconds = seconds_since(start);
     return summary;
+}
+
+int run_batch_worker(const std::string& job_path) {
+    // Dies with the batch (kill -9 included) rather than finishing on its own; the parent's pid
+    // in the job catches a parent that died before this line.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    try {
+        const YAML::Node j = YAML::LoadFile(job_path);
+        if (!j["npf_batch_worker_job"] || j["npf_batch_worker_job"].as<int>() != 1) throw Error(job_path, "not an npf batch job");
+        if (long(::getppid()) != j["parent"].as<long>()) {
+            std::fprintf(stderr, "npf batch --worker: the batch that started this worker has ended\n");
+            return 3;
+        }
+        MaterialContext ctx;
+        ctx.in_worker = true;
+        ctx.stage = j["stage"].as<std::string>();
+        ctx.force = j["force"].as<bool>();
+        ctx.shard = j["shard"].as<int>();
+        ctx.memory_limit = std::stoull(j["memory_limit"].as<std::string>());
+        if (ctx.memory_limit > 0) {
+            // RLIMIT_DATA (heap and private writable mappings: what a material's tables take), not
+            // RLIMIT_AS, which also counts the libraries' code and every thread's 64 MiB malloc
+            // arena reservation, so that its value would depend on the thread count. Set before
+            // anything is read; an allocation past it fails (std::bad_alloc in C++ code).
+            struct rlimit limit {};
+            ::getrlimit(RLIMIT_DATA, &limit);
+            const rlim_t want = rlim_t(ctx.memory_limit);
+            limit.rlim_cur = limit.rlim_max == RLIM_INFINITY ? want : std::min(want, limit.rlim_max);
+            if (::setrlimit(RLIMIT_DATA, &limit) != 0) throw Error(job_path, std::string("cannot set the memory limit: ") + std::strerror(errno));
+        }
+        MaterialJob job;
+        job.name = j["name"].as<std::string>();
+        job.input = j["input"].as<std::string>();
+        job.output = j["output"].as<std::string>();
+        job.origin = j["origin"].as<std::string>();
+        for (const auto& kv : j["settings"]) job.settings[kv.first.as<std::string>()] = {kv.second[0].as<std::string>(), kv.second[1].as<std::string>()};
+        BatchSummary answer;
+        answer.config = job_path;
+        answer.materials.push_back(process_material(job, ctx));
+        // The list of finished files first: the answer's presence says both are complete.
+        YAML::Emitter moves;
+        moves << YAML::BeginSeq;
+        for (const auto& [from, to] : ctx.moves)
+            moves << YAML::Flow << YAML::BeginSeq << YAML::DoubleQuoted << from << YAML::DoubleQuoted << to << YAML::EndSeq;
+        moves << YAML::EndSeq;
+        write_text_file(j["moves"].as<std::string>(), std::string(moves.c_str()) + "\n");
+        write_text_file(j["result"].as<std::string>(), summary_json(answer));
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "npf batch --worker: %s\n", e.what());
+        return 3;
+    }
 }
 
 }  // namespace npf::batch

@@ -1,6 +1,7 @@
 // npf batch: a material library from a YAML configuration (docs/batch.md): resumable (outputs
-// whose content hash matches are skipped), failure-isolated, shardable, with JSON and Markdown
-// summaries; --merge joins shard summaries.
+// whose content hash matches are skipped), failure-isolated (each material converted in a worker
+// process of its own, `npf batch --worker JOB`, under memory and time limits), shardable, with
+// JSON and Markdown summaries; --merge joins shard summaries.
 #include "command_line.h"
 #include "commands.h"
 
@@ -12,6 +13,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+
+#include <unistd.h>
 
 namespace npf::cli {
 
@@ -22,6 +26,9 @@ const std::vector<FlagSpec> kFlags = {
     {"--summary", true, "summary base name (writes BASE.json and BASE.md; default from the config)"},
     {"--force", false, "redo every material, whatever its content hash says"},
     {"--threads", true, "threads per material, overriding the configuration (changes the output's rounding)"},
+    {"--memory-limit", true, "SIZE: memory limit of each material's worker process, overriding the configuration (8 GiB, none)"},
+    {"--time-limit", true, "SECONDS: wall time limit of each material's worker process, overriding the configuration (3600, 2 h, none)"},
+    {"--in-process", false, "convert in this process: no worker processes, no limits (a crash ends the batch; for debuggers)"},
     {"--check", false, "only read and check the configuration; list the materials of the shard"},
     {"--merge", false, "merge shard summaries: npf batch --merge S1.json S2.json ... [-o MERGED]"},
     {"-o", true, "with --merge: base name of the merged summary (default: batch-summary beside the first)"},
@@ -67,15 +74,22 @@ int run_merge(const CommandLine& cl) {
 }  // namespace
 
 int run_batch(const std::vector<std::string>& args) {
+    // The worker that converts one material for a running batch (hidden: not for people).
+    if (!args.empty() && args[0] == "--worker") {
+        if (args.size() != 2) throw Error("--worker", "expects one job file");
+        return batch::run_batch_worker(args[1]);
+    }
     CommandLine cl("batch", args, kFlags);
     if (cl.has("--help") || (!cl.has("--merge") && cl.positional().size() != 1)) {
         std::printf("usage: npf batch CONFIG.yaml [--shard K/N] [--summary BASE] [--force] [--threads N] [--check] [--quiet]\n"
+                    "                 [--memory-limit SIZE] [--time-limit SECONDS] [--in-process]\n"
                     "       npf batch --merge SUMMARY.json... [-o BASE]\n\n"
                     "Converts every material a YAML configuration names (inputs, defaults, per-material overrides,\n"
                     "edits, validation renders; docs/batch.md, configs/batch/example.yaml). An output whose content\n"
                     "hash (input bytes, resolved settings, edit recipe, npf version) matches is skipped; outputs\n"
                     "appear only when complete, so an interrupted batch resumes where it stopped. A material that\n"
-                    "fails is reported and the others go on. Writes BASE.json and BASE.md summaries.\n"
+                    "fails (even by crashing: each material is converted in a process of its own, under memory and\n"
+                    "time limits) is reported and the others go on. Writes BASE.json and BASE.md summaries.\n"
                     "Exit status: 0 all materials converted or up to date; 4 some failed (or, merging, a shard is\n"
                     "missing); 1 the batch could not run (configuration, output folder).\n\n%s",
                     usage_lines(kFlags).c_str());
@@ -94,6 +108,22 @@ int run_batch(const std::vector<std::string>& args) {
         if (v.empty() || *end != '\0' || n < 1 || n > 1024) throw Error("--threads", "needs a whole number in [1, 1024], got '" + v + "'");
         options.threads = int(n);
     }
+    if (cl.has("--memory-limit")) {
+        options.memory_limit = cl.value("--memory-limit");
+        batch::parse_memory_limit(options.memory_limit, "--memory-limit");
+    }
+    if (cl.has("--time-limit")) {
+        options.time_limit = cl.value("--time-limit");
+        batch::parse_time_limit(options.time_limit, "--time-limit");
+    }
+    // This very executable (its inode, even if the file is replaced while the batch runs).
+    if (!cl.has("--in-process") && ::access("/proc/self/exe", X_OK) == 0) options.worker_executable = "/proc/self/exe";
+    const std::string base = cl.has("--summary") ? cl.value("--summary") : batch::summary_base(config, options.shard);
+    const std::string summary_folder = std::filesystem::path(base).parent_path().string();
+    // Checked (--check) or created before anything is converted: a summary that cannot be
+    // written must not be found out after hours of work.
+    batch::prepare_folder(config.output_dir, "output folder", false);
+    batch::prepare_folder(summary_folder.empty() ? "." : summary_folder, "summary folder (" + base + ".json)", !cl.has("--check"));
     for (const std::string& w : config.warnings) std::fprintf(stderr, "npf batch: warning: %s\n", w.c_str());
     const std::vector<std::size_t> members = batch::shard_members(config.materials.size(), options.shard);
     if (cl.has("--check")) {
@@ -104,6 +134,28 @@ int run_batch(const std::vector<std::string>& args) {
             std::printf("  %s: %s -> %s\n", m.name.c_str(), m.input.c_str(), m.output.c_str());
         }
         for (const std::string& s : config.skipped_by_config) std::printf("  %s: skip (configuration)\n", s.c_str());
+        if (!config.excluded.empty())
+            std::printf("  (%zu files matched by inputs left out: the batch writes them)\n", config.excluded.size());
+        std::printf("summary %s.json, %s.md\n", base.c_str(), base.c_str());
+        if (options.worker_executable.empty()) {
+            std::printf("materials converted in this process (--in-process): no isolation, no limits\n");
+        } else {
+            // Materials by their limits: one line when all share them.
+            std::map<std::string, std::string> by_limits;
+            for (std::size_t i : members) {
+                batch::MaterialJob m = config.materials[i];
+                if (!options.memory_limit.empty()) m.settings["memory_limit"] = {options.memory_limit, "--memory-limit"};
+                if (!options.time_limit.empty()) m.settings["time_limit"] = {options.time_limit, "--time-limit"};
+                const batch::MaterialLimits l = batch::resolve_limits(m.settings);
+                std::string& names = by_limits["memory " + batch::describe_memory(l.memory_bytes) + ", time " + batch::describe_seconds(l.seconds)];
+                names += (names.empty() ? "" : ", ") + m.name;
+            }
+            std::printf("each material in a worker process of its own, with limits\n");
+            for (const auto& [limits, names] : by_limits) {
+                if (by_limits.size() == 1) std::printf("  %s\n", limits.c_str());
+                else std::printf("  %s: %s\n", limits.c_str(), names.c_str());
+            }
+        }
         return 0;
     }
     const bool quiet = cl.has("--quiet");
@@ -114,7 +166,6 @@ int run_batch(const std::vector<std::string>& args) {
         }
     };
     const batch::BatchSummary summary = batch::run_batch(config, options);
-    const std::string base = cl.has("--summary") ? cl.value("--summary") : batch::summary_base(config, options.shard);
     batch::write_summary(summary, base);
     std::printf("%zu materials: %zu converted, %zu skipped, %zu failed in %.2f s; summary %s.json, %s.md\n",
                 summary.materials.size(), summary.count(batch::MaterialStatus::Converted),

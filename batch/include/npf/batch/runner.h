@@ -30,6 +30,15 @@ struct BatchOptions {
     Shard shard;
     bool force = false;    // redo every material whatever its hash says
     int threads = 0;       // > 0: overrides every material's `threads`
+    // Non-empty: override every material's memory_limit / time_limit (text as in the configuration).
+    std::string memory_limit, time_limit;
+    // The npf executable: each material that is not up to date is converted in a child process of
+    // its own (`EXECUTABLE batch --worker JOB`) under its memory_limit and time_limit, so that a
+    // crash, an abort, running out of memory or a hang fails that material only (docs/batch.md
+    // "Failure isolation"). Empty: in this process, without isolation or limits (a reader that
+    // crashes ends the caller); for library callers that cannot name an npf executable.
+    // `npf batch` sets it to itself.
+    std::string worker_executable;
     // One line per event ("[2/7] felt: converted in 1.2 s ..."); none when empty.
     std::function<void(const std::string&)> log;
 };
@@ -40,12 +49,23 @@ struct BatchOptions {
 // SHA-256 with those of the files it names. `source_isotropic` is the opened source's.
 std::string material_hash(const MaterialJob& job, bool source_isotropic);
 
-// Runs the shard's materials in name order. Temporaries live in <output_dir>/.npf-batch/
+// Runs the shard's materials in name order, one after another. Temporaries live in <output_dir>/.npf-batch/
 // shard-K-of-N/ (cleared when a run of that shard starts; a lock file stops two runs of one
 // shard at once); outputs appear under their names only when whole (a rename). Throws
 // npf::Error only when the batch cannot run at all (output folder, lock); a material's failure
 // is in its result.
 BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options);
+
+// `npf batch --worker JOB`: converts the one material a job file (written by run_batch) names
+// into the stage folder, and writes its result and the list of finished files for the parent to
+// move into place. Returns the exit status (0 when it answered; the material's own failure is in
+// the answer). Not for people: the job file's format is private to this version.
+int run_batch_worker(const std::string& job_path);
+
+// Checks that `dir` is a writable folder, or can be created (the nearest existing folder above
+// it is writable); creates it when `create`. Throws npf::Error naming `what` ("summary folder")
+// and the folder at fault. For the summary's and output's folders, before any conversion and at --check.
+void prepare_folder(const std::string& dir, const std::string& what, bool create);
 
 // The summary's default base name (without .json/.md): config.summary, or
 // <output_dir>/batch-summary; "<base>.shard-K-of-N" for shard K of N > 1.
