@@ -4,6 +4,7 @@
 // an uninterrupted one; two shards give the bytes of one process; summaries merge; a batch
 // whose inputs cover its output folder never takes its own files for inputs; the summary's
 // folder is checked before anything is converted.
+#include "batch_runs.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -34,15 +35,10 @@ namespace batch = npf::batch;
 using npf::testing::contains;
 using npf::testing::describe;
 using npf::testing::ToolRun;
+using npf::testing::batch_run;
+using npf::testing::exr_outputs_of;
+using npf::testing::write_batch_config;
 
-// Tiny, fast settings: each material converts in a fraction of a second.
-const char* kDefaults = "defaults:\n"
-                        "  preset: preview\n"
-                        "  threads: 1\n"
-                        "  grid: [16, 1, 16, 32]\n"
-                        "  g_grid: [16, 1]\n"
-                        "  error_pairs: 500\n"
-                        "  max_wavelengths: 4\n";
 
 npf::testing::SyntheticRglSpec small(bool spectral, float alpha) {
     npf::testing::SyntheticRglSpec s;
@@ -82,24 +78,8 @@ void write_library(const std::string& dir, bool hostile) {
     npf::testing::to_writer(fields).write(dir + "/nan.bsdf");
 }
 
-std::string write_config(const std::string& path, const std::string& inputs_dir, const std::string& output_dir,
-                         const std::string& extra = "") {
-    npf::testing::write_text(path, "output_dir: " + output_dir + "\ninputs:\n  - " + inputs_dir + "/*.bsdf\n" + kDefaults + extra);
-    return path;
-}
 
-ToolRun batch_run(std::vector<std::string> args) {
-    args.insert(args.begin(), "batch");
-    return npf::testing::run_tool(args);
-}
 
-std::map<std::string, std::string> outputs_of(const std::string& dir) {
-    std::map<std::string, std::string> files;
-    for (const std::string& name : npf::testing::folder_entries(dir)) {
-        if (name.size() > 4 && name.compare(name.size() - 4, 4, ".exr") == 0) files[name] = npf::testing::read_text(dir + "/" + name);
-    }
-    return files;
-}
 
 std::map<std::string, std::string> statuses(const batch::BatchSummary& s) {
     std::map<std::string, std::string> out;
@@ -110,7 +90,7 @@ std::map<std::string, std::string> statuses(const batch::BatchSummary& s) {
 TEST(BatchCli, HostileFilesAreReportedAndTheOthersConvert) {
     const std::string dir = npf::testing::temporary_folder("batch-hostile");
     write_library(dir + "/in", true);
-    const std::string cfg = write_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
+    const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
     const ToolRun r = batch_run({cfg});
     EXPECT_EQ(r.status, 4) << describe(r);
     for (const char* bad : {"truncated", "garbage", "nan"}) {
@@ -151,10 +131,10 @@ TEST(BatchCli, HostileFilesAreReportedAndTheOthersConvert) {
 TEST(BatchCli, RerunSkipsAndAChangedSettingRedoesOnlyItsMaterial) {
     const std::string dir = npf::testing::temporary_folder("batch-rerun");
     write_library(dir + "/in", false);
-    const std::string cfg = write_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
+    const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
     const ToolRun first = batch_run({cfg, "--quiet"});
     ASSERT_EQ(first.status, 0) << describe(first);
-    const auto before = outputs_of(dir + "/out");
+    const auto before = exr_outputs_of(dir + "/out");
     ASSERT_EQ(before.size(), 3u);
 
     const auto t0 = std::chrono::steady_clock::now();
@@ -165,10 +145,10 @@ TEST(BatchCli, RerunSkipsAndAChangedSettingRedoesOnlyItsMaterial) {
     const batch::BatchSummary s = batch::read_summary_json(dir + "/out/batch-summary.json");
     EXPECT_EQ(s.count(batch::MaterialStatus::Skipped), 3u) << again.out;
     for (const batch::MaterialResult& m : s.materials) EXPECT_TRUE(m.error_mean) << m.name;  // read back from the file
-    EXPECT_EQ(outputs_of(dir + "/out"), before);
+    EXPECT_EQ(exr_outputs_of(dir + "/out"), before);
 
     // A per-material override for one material: only that one is redone.
-    write_config(cfg, dir + "/in", dir + "/out", "materials:\n  rough: {error_pairs: 400}\n");
+    write_batch_config(cfg, dir + "/in", dir + "/out", "materials:\n  rough: {error_pairs: 400}\n");
     const ToolRun changed = batch_run({cfg});
     ASSERT_EQ(changed.status, 0) << describe(changed);
     const batch::BatchSummary c = batch::read_summary_json(dir + "/out/batch-summary.json");
@@ -180,18 +160,18 @@ TEST(BatchCli, RerunSkipsAndAChangedSettingRedoesOnlyItsMaterial) {
     EXPECT_EQ(statuses(batch::read_summary_json(dir + "/out/batch-summary.json")),
               (std::map<std::string, std::string>{{"glossy", "converted"}, {"rough", "skipped"}, {"spectral", "skipped"}}));
     // --force redoes everything, to the same bytes.
-    const auto now = outputs_of(dir + "/out");
+    const auto now = exr_outputs_of(dir + "/out");
     const ToolRun forced = batch_run({cfg, "--force"});
     ASSERT_EQ(forced.status, 0) << describe(forced);
     EXPECT_EQ(batch::read_summary_json(dir + "/out/batch-summary.json").count(batch::MaterialStatus::Converted), 3u);
-    EXPECT_EQ(outputs_of(dir + "/out"), now);
+    EXPECT_EQ(exr_outputs_of(dir + "/out"), now);
 }
 
 TEST(BatchCli, TwoShardsGiveTheBytesOfOneProcessAndMerge) {
     const std::string dir = npf::testing::temporary_folder("batch-shards");
     write_library(dir + "/in", true);
-    const std::string one = write_config(dir + "/one.yaml", dir + "/in", dir + "/one");
-    const std::string two = write_config(dir + "/two.yaml", dir + "/in", dir + "/two");
+    const std::string one = write_batch_config(dir + "/one.yaml", dir + "/in", dir + "/one");
+    const std::string two = write_batch_config(dir + "/two.yaml", dir + "/in", dir + "/two");
     EXPECT_EQ(batch_run({one, "--quiet"}).status, 4);
     const ToolRun s0 = batch_run({two, "--shard", "0/2", "--quiet"});
     const ToolRun s1 = batch_run({two, "--shard", "1/2", "--quiet"});
@@ -199,7 +179,7 @@ TEST(BatchCli, TwoShardsGiveTheBytesOfOneProcessAndMerge) {
     // spectral (two of them fail), shard 1 glossy, rough, truncated.
     EXPECT_EQ(s0.status, 4) << describe(s0);
     EXPECT_EQ(s1.status, 4) << describe(s1);
-    const auto a = outputs_of(dir + "/one"), b = outputs_of(dir + "/two");
+    const auto a = exr_outputs_of(dir + "/one"), b = exr_outputs_of(dir + "/two");
     EXPECT_EQ(a.size(), 3u);
     EXPECT_EQ(a, b);
     const batch::BatchSummary p0 = batch::read_summary_json(dir + "/two/batch-summary.shard-0-of-2.json");
@@ -233,7 +213,7 @@ TEST(BatchCli, EditsAndValidationRendersAreApplied) {
     const std::string dir = npf::testing::temporary_folder("batch-edit");
     write_library(dir + "/in", false);
     npf::testing::write_text(dir + "/rotate.yaml", "steps:\n  - rotate: 30\n");
-    const std::string cfg = write_config(dir + "/batch.yaml", dir + "/in", dir + "/out",
+    const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out",
                                          "  render: {size: 24, spp: 2, threads: 1}\n"
                                          "materials:\n  rough: {edit: rotate.yaml}\n  spectral: {skip: true}\n");
     const ToolRun r = batch_run({cfg});
@@ -295,8 +275,8 @@ TEST(BatchCli, KilledMidMaterialResumesToTheSameBytes) {
     // About a second: 200 sweeps (no early stop) on a small anisotropic grid.
     const std::string extra = "materials:\n  middle: {grid: [24, 32, 24, 32], g_grid: [24, 32], phi_d_samples: 8,"
                               " iterations: 200, tolerance: 0}\n";
-    const std::string ref_cfg = write_config(dir + "/ref.yaml", dir + "/in", dir + "/ref", extra);
-    const std::string cfg = write_config(dir + "/batch.yaml", dir + "/in", dir + "/out", extra);
+    const std::string ref_cfg = write_batch_config(dir + "/ref.yaml", dir + "/in", dir + "/ref", extra);
+    const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out", extra);
     const ToolRun ref = batch_run({ref_cfg, "--quiet"});
     ASSERT_EQ(ref.status, 0) << describe(ref);
 
@@ -327,7 +307,7 @@ TEST(BatchCli, KilledMidMaterialResumesToTheSameBytes) {
               (std::map<std::string, std::string>{{"glossy", "skipped"}, {"middle", "converted"}, {"rough", "converted"},
                                                   {"spectral", "converted"}}));
     EXPECT_TRUE(npf::testing::folder_entries(dir + "/out/.npf-batch/shard-0-of-1").empty());
-    const auto a = outputs_of(dir + "/ref"), b = outputs_of(dir + "/out");
+    const auto a = exr_outputs_of(dir + "/ref"), b = exr_outputs_of(dir + "/out");
     EXPECT_EQ(a.size(), 4u);
     EXPECT_TRUE(a == b) << "outputs of the resumed batch differ from the uninterrupted one";
 }
@@ -339,7 +319,7 @@ TEST(BatchCli, AGlobOverTheOutputFolderNeverFeedsOnTheBatchsOwnFiles) {
     const std::string dir = npf::testing::temporary_folder("batch-self-feed");
     write_library(dir + "/lib", false);
     const std::string cfg = dir + "/batch.yaml";
-    npf::testing::write_text(cfg, "output_dir: lib\ninputs: ['lib/*']\n" + std::string(kDefaults) +
+    npf::testing::write_text(cfg, "output_dir: lib\ninputs: ['lib/*']\n" + std::string(npf::testing::kBatchTestDefaults) +
                                       "  render: {size: 16, spp: 1, threads: 1}\n");
     const ToolRun first = batch_run({cfg, "--quiet"});
     ASSERT_EQ(first.status, 0) << describe(first);
@@ -357,7 +337,7 @@ TEST(BatchCli, AGlobOverTheOutputFolderNeverFeedsOnTheBatchsOwnFiles) {
     // summary elsewhere: p_npf.exr is an output, never the input of p_npf_npf.exr.
     const std::string cfg2 = dir + "/named.yaml";
     npf::testing::write_text(cfg2, "output_dir: lib2\nnaming: '{name}_npf.exr'\nsummary: sums/s\ninputs: ['lib2/*']\n" +
-                                       std::string(kDefaults));
+                                       std::string(npf::testing::kBatchTestDefaults));
     fs::create_directories(dir + "/lib2");
     fs::copy_file(dir + "/lib/glossy.exr", dir + "/lib2/p.exr");  // an NPF texture as an input
     fs::copy_file(dir + "/lib/rough.bsdf", dir + "/lib2/q.bsdf");
@@ -380,7 +360,7 @@ TEST(BatchCli, AGlobOverTheOutputFolderNeverFeedsOnTheBatchsOwnFiles) {
 TEST(BatchCli, TheSummaryFolderIsMadeOrRefusedBeforeConverting) {
     const std::string dir = npf::testing::temporary_folder("batch-summary-folder");
     write_library(dir + "/in", false);
-    const std::string cfg = write_config(dir + "/batch.yaml", dir + "/in", dir + "/out", "summary: reports/2024/lib\n");
+    const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out", "summary: reports/2024/lib\n");
     const ToolRun check = batch_run({cfg, "--check"});
     EXPECT_EQ(check.status, 0) << describe(check);
     EXPECT_FALSE(fs::exists(dir + "/reports")) << "--check made a folder";
@@ -389,7 +369,7 @@ TEST(BatchCli, TheSummaryFolderIsMadeOrRefusedBeforeConverting) {
     EXPECT_EQ(batch::read_summary_json(dir + "/reports/2024/lib.json").count(batch::MaterialStatus::Converted), 3u);
 
     npf::testing::write_text(dir + "/blocker", "a file where the summary's folder would go");
-    const std::string bad = write_config(dir + "/bad.yaml", dir + "/in", dir + "/bad-out", "summary: blocker/lib\n");
+    const std::string bad = write_batch_config(dir + "/bad.yaml", dir + "/in", dir + "/bad-out", "summary: blocker/lib\n");
     const ToolRun refused = batch_run({bad, "--check"});
     EXPECT_EQ(refused.status, 1) << describe(refused);
     EXPECT_TRUE(contains(refused.err, "summary folder")) << describe(refused);
@@ -397,7 +377,7 @@ TEST(BatchCli, TheSummaryFolderIsMadeOrRefusedBeforeConverting) {
     const ToolRun run = batch_run({bad});
     EXPECT_EQ(run.status, 1) << describe(run);
     EXPECT_TRUE(contains(run.err, "summary folder")) << describe(run);
-    EXPECT_TRUE(outputs_of(dir + "/bad-out").empty()) << "converted before finding out the summary cannot be written";
+    EXPECT_TRUE(exr_outputs_of(dir + "/bad-out").empty()) << "converted before finding out the summary cannot be written";
     // The same for --summary.
     const ToolRun flag = batch_run({cfg, "--check", "--summary", dir + "/blocker/x"});
     EXPECT_EQ(flag.status, 1) << describe(flag);

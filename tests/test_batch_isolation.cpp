@@ -3,6 +3,7 @@
 // killed fails only its material, which is reported by name and reason while the others convert
 // (exit status 4). The crashes are injected with the test-only NPF_TEST_FAULT variable
 // (docs/batch.md "Failure isolation").
+#include "batch_runs.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -33,15 +34,10 @@ namespace batch = npf::batch;
 using npf::testing::contains;
 using npf::testing::describe;
 using npf::testing::ToolRun;
+using npf::testing::batch_run;
+using npf::testing::exr_outputs_of;
+using npf::testing::write_batch_config;
 
-// Tiny, fast settings: each material converts in a fraction of a second.
-const char* kDefaults = "defaults:\n"
-                        "  preset: preview\n"
-                        "  threads: 1\n"
-                        "  grid: [16, 1, 16, 32]\n"
-                        "  g_grid: [16, 1]\n"
-                        "  error_pairs: 500\n"
-                        "  max_wavelengths: 4\n";
 
 // The test-only fault variable, set for the tool runs of one test.
 class ScopedFault {
@@ -62,24 +58,8 @@ void write_material(const std::string& path, float alpha) {
     npf::testing::write_synthetic_rgl(s, path);
 }
 
-std::string write_config(const std::string& path, const std::string& inputs_dir, const std::string& output_dir,
-                         const std::string& extra = "") {
-    npf::testing::write_text(path, "output_dir: " + output_dir + "\ninputs:\n  - " + inputs_dir + "/*.bsdf\n" + kDefaults + extra);
-    return path;
-}
 
-ToolRun batch_run(std::vector<std::string> args) {
-    args.insert(args.begin(), "batch");
-    return npf::testing::run_tool(args);
-}
 
-std::map<std::string, std::string> outputs_of(const std::string& dir) {
-    std::map<std::string, std::string> files;
-    for (const std::string& name : npf::testing::folder_entries(dir)) {
-        if (name.size() > 4 && name.compare(name.size() - 4, 4, ".exr") == 0) files[name] = npf::testing::read_text(dir + "/" + name);
-    }
-    return files;
-}
 
 std::map<std::string, const batch::MaterialResult*> by_name(const batch::BatchSummary& s) {
     std::map<std::string, const batch::MaterialResult*> out;
@@ -94,7 +74,7 @@ TEST(BatchIsolation, CrashesAbortsMemoryAndHangsFailOnlyTheirMaterial) {
     fs::create_directories(dir + "/in");
     for (std::size_t i = 0; i < names.size(); ++i) write_material(dir + "/in/" + names[i] + ".bsdf", 0.2f + 0.05f * float(i));
     const std::string limits = "  time_limit: 120\nmaterials:\n  hog: {memory_limit: 1 GiB}\n  stuck: {time_limit: 1.5}\n";
-    const std::string cfg = write_config(dir + "/batch.yaml", dir + "/in", dir + "/out", limits);
+    const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out", limits);
     ToolRun r;
     {
         const ScopedFault fault("abort:aborts,segv:crashes,oom:hog,kill:killed,exit:quits,hang:stuck");
@@ -132,16 +112,16 @@ TEST(BatchIsolation, CrashesAbortsMemoryAndHangsFailOnlyTheirMaterial) {
     // Without the faults (nor stuck's short limit, which a real conversion on a busy machine may
     // need; limits are not in the content hash) the next run converts the rest and skips what was
     // done; every output is byte for byte what a batch in one process writes.
-    write_config(cfg, dir + "/in", dir + "/out", "materials:\n  hog: {memory_limit: 1 GiB}\n");
+    write_batch_config(cfg, dir + "/in", dir + "/out", "materials:\n  hog: {memory_limit: 1 GiB}\n");
     const ToolRun again = batch_run({cfg});
     ASSERT_EQ(again.status, 0) << describe(again);
     const batch::BatchSummary t = batch::read_summary_json(dir + "/out/batch-summary.json");
     EXPECT_EQ(t.count(batch::MaterialStatus::Skipped), 2u);
     EXPECT_EQ(t.count(batch::MaterialStatus::Converted), names.size() - 2);
-    const std::string in_process = write_config(dir + "/one.yaml", dir + "/in", dir + "/one");
+    const std::string in_process = write_batch_config(dir + "/one.yaml", dir + "/in", dir + "/one");
     const ToolRun one = batch_run({in_process, "--in-process", "--quiet"});
     ASSERT_EQ(one.status, 0) << describe(one);
-    const auto a = outputs_of(dir + "/out"), b = outputs_of(dir + "/one");
+    const auto a = exr_outputs_of(dir + "/out"), b = exr_outputs_of(dir + "/one");
     EXPECT_EQ(a.size(), names.size());
     EXPECT_TRUE(a == b) << "outputs of worker processes differ from those of one process";
 }
@@ -153,7 +133,7 @@ TEST(BatchIsolation, RunningOutOfMemoryInProcessNamesTheFile) {
     fs::create_directories(dir + "/in");
     write_material(dir + "/in/glossy.bsdf", 0.2f);
     write_material(dir + "/in/hog.bsdf", 0.4f);
-    const std::string cfg = write_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
+    const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
     batch::BatchOptions options;  // no worker_executable: in this process
     batch::BatchSummary s;
     {
@@ -173,7 +153,7 @@ TEST(BatchIsolation, LibraryCallersCanUseWorkerProcesses) {
     fs::create_directories(dir + "/in");
     write_material(dir + "/in/glossy.bsdf", 0.2f);
     write_material(dir + "/in/crashes.bsdf", 0.4f);
-    const std::string cfg = write_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
+    const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
     batch::BatchOptions options;
     options.worker_executable = NPF_TOOL_PATH;
     options.time_limit = "60";
@@ -215,7 +195,7 @@ TEST(BatchIsolation, AWorkerDiesWithItsBatch) {
     const std::string dir = npf::testing::temporary_folder("batch-worker-orphan");
     fs::create_directories(dir + "/in");
     write_material(dir + "/in/stuck.bsdf", 0.3f);
-    const std::string cfg = write_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
+    const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
     const std::string job = dir + "/out/.npf-batch/shard-0-of-1/stuck.job.yaml";
     pid_t pid = -1;
     {
