@@ -15,7 +15,6 @@
 #include <limits>
 #include <optional>
 #include <sys/resource.h>
-#include <sys/stat.h>
 
 namespace npf {
 
@@ -478,10 +477,8 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
     m.emplace_back("pca_g_ratio_requested", text(compression.g_ratio));
 
     t = Clock::now();
-    write_npf_texture(model, output);
+    report.output_bytes = write_npf_texture(model, output);
     report.seconds_writing = seconds_since(t);
-    struct stat st {};
-    if (::stat(output.c_str(), &st) == 0) report.output_bytes = std::uint64_t(st.st_size);
     if (progress) progress(1.0);
     report.seconds = seconds_since(start);
     report.peak_memory_gib = peak_memory_gib();

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
+
 namespace npf {
 
 namespace {
@@ -237,7 +239,7 @@ void check_written(const AtomicOutput& atomic, const std::string& name, const st
 
 }  // namespace
 
-void write_npf_texture(const NpfModel& model, const std::string& path) {
+std::uint64_t write_npf_texture(const NpfModel& model, const std::string& path) {
     model.validate(path);
     check_metadata(model, path);
     const std::vector<PartData> parts = make_parts(model);
@@ -274,7 +276,11 @@ void write_npf_texture(const NpfModel& model, const std::string& path) {
     } catch (const std::exception& e) {
         atomic.fail("cannot write", e.what());
     }
+    // The size as written: after a write-through (-o /dev/null) the destination cannot say it.
+    struct stat st {};
+    const std::uint64_t bytes = ::stat(atomic.descriptor_path().c_str(), &st) == 0 ? std::uint64_t(st.st_size) : 0;
     atomic.commit();
+    return bytes;
 }
 
 }  // namespace npf

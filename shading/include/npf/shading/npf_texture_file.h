@@ -6,6 +6,7 @@
 #include <npf/shading/oiio_fwd.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace npf {
@@ -22,8 +23,9 @@ NpfModel read_npf_texture(const std::string& path, OIIO::TextureSystem& ts);
 // Writes `model` to `path` atomically (a temporary beside it, renamed into place): float pixels,
 // lossless ZIP compression, every array bit for bit. Throws npf::Error naming `path` when the
 // model is inconsistent (NpfModel::validate), a metadata key is empty, repeated or holds a
-// control character, or writing fails; no file appears under `path` then.
-void write_npf_texture(const NpfModel& model, const std::string& path);
+// control character, or writing fails; no file appears under `path` then. Returns the bytes
+// written (also when `path` is a device written through, such as /dev/null).
+std::uint64_t write_npf_texture(const NpfModel& model, const std::string& path);
 
 // A cheap sniff that never throws: true when `path` starts with the OpenEXR magic number and its
 // part "D" carries an integer npf:format_version (of any value; read_npf_texture judges it).
