@@ -81,9 +81,8 @@ std::string describe_memory(std::uint64_t bytes);
 std::string describe_seconds(double seconds);
 
 // The settings that decide the output file's contents, one "name=value" per line in name order:
-// everything but threads (the thread count changes only the rounding of the fit's sums, not what
-// is fitted; outputs are bit-identical for a fixed count, so configurations that compare bytes
-// set it), memory_limit and time_limit (they decide whether a conversion ends, not what it
+// everything but threads (the fit is the same to the bit on any thread count:
+// Awls.TheFitDoesNotDependOnTheThreadCount, docs/batch.md), memory_limit and time_limit (they decide whether a conversion ends, not what it
 // writes), edit (hashed by content instead) and render.* (the renders carry their own hash).
 std::string canonical_settings(const Settings& settings);
 
