@@ -350,15 +350,21 @@ void apply_test_fault(const std::string& name, const MaterialContext& ctx) {
     }
 }
 
-// One material: checked against its output's hash, converted, edited, stamped, written, and
-// rendered when asked; every problem becomes its failed status and reason.
-MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
-    std::error_code ec;
+// A result for the job with what every path knows of it: names, paths, shard.
+MaterialResult result_for(const MaterialJob& job, int shard) {
     MaterialResult r;
     r.name = job.name;
     r.input = job.input;
     r.output = job.output;
-    r.shard = ctx.shard;
+    r.shard = shard;
+    return r;
+}
+
+// One material: checked against its output's hash, converted, edited, stamped, written, and
+// rendered when asked; every problem becomes its failed status and reason.
+MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
+    std::error_code ec;
+    MaterialResult r = result_for(job, ctx.shard);
     const std::string fit_path = (fs::path(ctx.stage) / (job.name + ".fit.exr")).string();
     const std::string final_stage = (fs::path(ctx.stage) / (job.name + ".exr")).string();
     try {
@@ -486,11 +492,7 @@ std::optional<MaterialResult> up_to_date_result(const MaterialJob& job, int shar
         const std::string input_sha = sha256_file(job.input);
         const std::string& stored = header->at(key);
         if (stored != hash_text(job, true, input_sha) && stored != hash_text(job, false, input_sha)) return std::nullopt;
-        MaterialResult r;
-        r.name = job.name;
-        r.input = job.input;
-        r.output = job.output;
-        r.shard = shard;
+        MaterialResult r = result_for(job, shard);
         r.status = MaterialStatus::Skipped;
         r.hash = stored;
         const RenderCheck check = resolve_render_check(job.settings);
@@ -562,11 +564,7 @@ void write_text_file(const std::string& path, const std::string& text) {
 // Runs one material in a worker process under its limits and turns however it ended into a
 // result: the worker's own, or a failure naming the input and why (signal, limit, exit status).
 MaterialResult run_in_worker(const MaterialJob& job, const std::string& executable, const std::string& stage, bool force, int shard) {
-    MaterialResult failed;
-    failed.name = job.name;
-    failed.input = job.input;
-    failed.output = job.output;
-    failed.shard = shard;
+    MaterialResult failed = result_for(job, shard);
     failed.status = MaterialStatus::Failed;
     MaterialLimits limits;
     try {
