@@ -171,6 +171,19 @@ TEST(BatchConfig, LoadsFromAFileWithPathsFromItsFolder) {
     EXPECT_THROW(batch::load_batch_config(dir), npf::Error);
 }
 
+// An input whose name holds "{name}" is named once, not expanded again (fuzzing: the old loop
+// replaced the {name} it had just put in, for ever), and its output is still known as an output.
+TEST(BatchConfig, AnInputNamedWithTheNamingPlaceholderIsNamedOnce) {
+    const std::string dir = npf::testing::temporary_folder("batch-config-placeholder");
+    npf::testing::write_text(dir + "/a{name}b.bsdf", "x");
+    npf::testing::write_text(dir + "/batch.yaml", "output_dir: out\nnaming: '{name}_{name}.exr'\ninputs: '*.bsdf'\n");
+    const batch::BatchConfig c = batch::load_batch_config(dir + "/batch.yaml");
+    ASSERT_EQ(c.materials.size(), 1u);
+    EXPECT_EQ(c.materials[0].name, "a{name}b");
+    EXPECT_EQ(std::filesystem::path(c.materials[0].output).filename().string(), "a{name}b_a{name}b.exr");
+    EXPECT_EQ(batch::batch_file_kind(c, c.materials[0].output), "an output of the batch (naming '{name}_{name}.exr')");
+}
+
 // The batch's own files are never inputs (docs/batch.md): a glob over the output folder leaves
 // out the outputs (any name that fits `naming`), the work folder with its locks, the renders,
 // the summaries (by name, and any summary by its contents) and the configuration itself, also

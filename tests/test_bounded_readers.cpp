@@ -11,6 +11,7 @@
 #include <npf/converter/tensor_file.h>
 #include <npf/core/brdf.h>
 #include <npf/core/error.h>
+#include <npf/core/openexr_header.h>
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -228,6 +229,17 @@ TEST(BoundedReaders, OpenExrAttributesMustHaveTheirTypesSize) {
     write_bytes(bad, bytes);
     const std::string e = error_of([&] { npf::open_brdf(bad); });
     EXPECT_NE(e.find("attribute 'chunkCount' of type int has 260 bytes, not 4"), std::string::npos) << e;
+    // The walk over bytes in memory (the fuzz target's) says what the walk over the file says.
+    const std::uint64_t cap = std::uint64_t(1) << 23;
+    EXPECT_EQ(npf::openexr_header_problem(bytes.data(), bytes.size(), bytes.size(), cap),
+              npf::openexr_header_problem(bad, cap));
+    EXPECT_NE(npf::openexr_header_problem(bad, cap), "");
+    EXPECT_EQ(npf::openexr_header_problem(good, cap), "");
+    // A head that ends inside the headers of a longer file: refused, saying so.
+    at[15] = 4;
+    at[16] = 0;
+    EXPECT_EQ(npf::openexr_header_problem(bytes.data(), bytes.size(), bytes.size(), cap), "");
+    EXPECT_EQ(npf::openexr_header_problem(bytes.data(), 200, bytes.size(), cap), "OpenEXR headers longer than 200 bytes");
     // The committed fuzzing input itself.
     for (const auto& entry : fs::directory_iterator(std::string(NPF_SOURCE_DIR) + "/fuzz/corpus/npf_exr")) {
         if (entry.path().filename().string().rfind("oom-", 0) != 0) continue;

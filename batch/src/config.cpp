@@ -257,6 +257,17 @@ bool is_under(const fs::path& p, const fs::path& dir) {
     return q != p.end();
 }
 
+// `naming` with `name` put in for every {name}. One pass over `naming`: a name that itself holds
+// "{name}" (an input file may be called so) is not expanded again (fuzzing found the loop).
+std::string apply_naming(const std::string& naming, const std::string& name) {
+    std::string out;
+    std::size_t from = 0;
+    for (std::size_t at; (at = naming.find("{name}", from)) != std::string::npos; from = at + 6) {
+        out.append(naming, from, at - from).append(name);
+    }
+    return out.append(naming, from, std::string::npos);
+}
+
 // Whether `file` is `naming` with one name put in for every {name}.
 bool fits_naming(const std::string& file, const std::string& naming) {
     std::size_t fixed = naming.size(), count = 0;
@@ -264,9 +275,7 @@ bool fits_naming(const std::string& file, const std::string& naming) {
     if (count == 0 || file.size() <= fixed || (file.size() - fixed) % count != 0) return false;
     const std::size_t first = naming.find("{name}");
     const std::string name = file.substr(first, (file.size() - fixed) / count);
-    std::string expected = naming;
-    for (std::size_t at; (at = expected.find("{name}")) != std::string::npos;) expected.replace(at, 6, name);
-    return expected == file;
+    return apply_naming(naming, name) == file;
 }
 
 // A summary by its first bytes (summary_json and summary_markdown begin so), wherever it was
@@ -641,9 +650,7 @@ BatchConfig parse_config(const std::string& yaml, const std::string& source, con
         job.name = name;
         job.input = f.path;
         job.origin = f.origin;
-        std::string file = c.naming;
-        for (std::size_t at; (at = file.find("{name}")) != std::string::npos;) file.replace(at, 6, name);
-        job.output = (fs::path(c.output_dir) / file).lexically_normal().string();
+        job.output = (fs::path(c.output_dir) / apply_naming(c.naming, name)).lexically_normal().string();
         job.settings = defaults;
         for (const auto& [k, v] : overrides[name]) job.settings[k] = v;
         c.materials.push_back(std::move(job));

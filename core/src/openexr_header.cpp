@@ -48,40 +48,41 @@ struct HeaderError {
 
 class Walker {
 public:
-    Walker(std::vector<std::uint8_t> bytes, std::uint64_t file_size) : m_bytes(std::move(bytes)), m_file_size(file_size) {}
+    Walker(const std::uint8_t* bytes, std::size_t size, std::uint64_t file_size)
+        : m_bytes(bytes), m_size(size), m_file_size(file_size) {}
 
     // A NUL-terminated name of at most `longest` characters; empty at the end of a header.
     std::string name(std::size_t longest, const char* what) {
         const std::size_t start = m_pos;
-        while (m_pos < m_bytes.size() && m_bytes[m_pos] != 0) {
+        while (m_pos < m_size && m_bytes[m_pos] != 0) {
             if (m_pos - start >= longest) fail(std::string(what) + " longer than " + std::to_string(longest) + " characters");
             ++m_pos;
         }
-        if (m_pos >= m_bytes.size()) truncated();
-        return std::string(reinterpret_cast<const char*>(m_bytes.data() + start), m_pos++ - start);
+        if (m_pos >= m_size) truncated();
+        return std::string(reinterpret_cast<const char*>(m_bytes + start), m_pos++ - start);
     }
 
     std::int32_t int32() {
-        if (m_bytes.size() - m_pos < 4) truncated();
-        const std::int32_t v = le32(m_bytes.data() + m_pos);
+        if (m_size - m_pos < 4) truncated();
+        const std::int32_t v = le32(m_bytes + m_pos);
         m_pos += 4;
         return v;
     }
 
     const std::uint8_t* skip(const std::string& attribute, std::uint64_t n) {
-        if (n > m_bytes.size() - m_pos) {
+        if (n > m_size - m_pos) {
             if (n > m_file_size - m_pos) {
                 fail("attribute '" + attribute + "' claims " + std::to_string(n) + " bytes, more than the file holds");
             }
             truncated();
         }
-        const std::uint8_t* p = m_bytes.data() + m_pos;
+        const std::uint8_t* p = m_bytes + m_pos;
         m_pos += std::size_t(n);
         return p;
     }
 
     bool at_end_of_headers() {
-        if (m_pos >= m_bytes.size()) truncated();
+        if (m_pos >= m_size) truncated();
         if (m_bytes[m_pos] != 0) return false;
         ++m_pos;
         return true;
@@ -92,12 +93,13 @@ public:
 
     [[noreturn]] void fail(const std::string& why) const { throw HeaderError{why}; }
     [[noreturn]] void truncated() const {
-        if (m_bytes.size() < m_file_size) fail("headers larger than " + std::to_string(kMaxHeaderBytes >> 20) + " MiB");
+        if (m_size < m_file_size) fail("OpenEXR headers longer than " + std::to_string(m_size) + " bytes");
         fail("truncated OpenEXR header");
     }
 
 private:
-    std::vector<std::uint8_t> m_bytes;
+    const std::uint8_t* m_bytes;
+    std::size_t m_size;
     std::uint64_t m_file_size;
     std::size_t m_pos = 8;
 };
@@ -121,23 +123,15 @@ void check_channel_list(Walker& w, const std::uint8_t* list, std::size_t size) {
     if (i + 1 != size) w.fail("malformed OpenEXR channel list (its end is not where its size says)");
 }
 
-std::string walk(const std::string& path, std::uint64_t max_pixels) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) return std::string("cannot open: ") + std::strerror(errno);
-    const std::uint64_t file_size = std::uint64_t(in.tellg());
-    in.seekg(0);
-    std::vector<std::uint8_t> bytes(std::size_t(std::min(file_size, kMaxHeaderBytes)));
-    if (!bytes.empty() && !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()))) {
-        return "cannot read the OpenEXR headers";
-    }
-    if (bytes.size() < 4 || !(bytes[0] == 0x76 && bytes[1] == 0x2f && bytes[2] == 0x31 && bytes[3] == 0x01)) {
+std::string walk(const std::uint8_t* bytes, std::size_t head_size, std::uint64_t file_size, std::uint64_t max_pixels) {
+    if (head_size < 4 || !(bytes[0] == 0x76 && bytes[1] == 0x2f && bytes[2] == 0x31 && bytes[3] == 0x01)) {
         return "not an OpenEXR file";
     }
-    if (bytes.size() < 8) return "truncated OpenEXR header";
-    const std::uint32_t flags = std::uint32_t(le32(bytes.data() + 4));
+    if (head_size < 8) return "truncated OpenEXR header";
+    const std::uint32_t flags = std::uint32_t(le32(bytes + 4));
     const bool multipart = flags & kMultiPartFlag, tiled = flags & kTiledFlag;
     const std::size_t longest = flags & kLongNamesFlag ? 255 : 31;
-    Walker w(std::move(bytes), file_size);
+    Walker w(bytes, head_size, file_size);
     try {
         std::uint64_t chunk_entries = 0;  // offset-table entries of every part
         int parts = 0;
@@ -195,10 +189,27 @@ std::string walk(const std::string& path, std::uint64_t max_pixels) {
 
 }  // namespace
 
-std::string openexr_header_problem(const std::string& path, std::uint64_t max_pixels) { return walk(path, max_pixels); }
+std::string openexr_header_problem(const std::uint8_t* head, std::size_t head_size, std::uint64_t file_size,
+                                   std::uint64_t max_pixels) {
+    return walk(head, std::min<std::uint64_t>(head_size, file_size), std::max<std::uint64_t>(head_size, file_size),
+                max_pixels);
+}
+
+std::string openexr_header_problem(const std::string& path, std::uint64_t max_pixels) {
+    // Only the head of the file is read: the headers end within kMaxHeaderBytes or are refused.
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) return std::string("cannot open: ") + std::strerror(errno);
+    const std::uint64_t file_size = std::uint64_t(in.tellg());
+    in.seekg(0);
+    std::vector<std::uint8_t> head(std::size_t(std::min(file_size, kMaxHeaderBytes)));
+    if (!head.empty() && !in.read(reinterpret_cast<char*>(head.data()), std::streamsize(head.size()))) {
+        return "cannot read the OpenEXR headers";
+    }
+    return walk(head.data(), head.size(), file_size, max_pixels);
+}
 
 void check_openexr_header(const std::string& path, std::uint64_t max_pixels) {
-    const std::string problem = walk(path, max_pixels);
+    const std::string problem = openexr_header_problem(path, max_pixels);
     if (!problem.empty()) throw Error(path, problem);
 }
 

@@ -15,6 +15,10 @@ namespace npf {
 // The problem with the headers, or "" when there is none. A file without the OpenEXR magic
 // number is "not an OpenEXR file". Never throws.
 std::string openexr_header_problem(const std::string& path, std::uint64_t max_pixels);
+// The same for the first `head_size` bytes of a file of `file_size` bytes (the headers must end
+// within the head; the offset tables are checked against the file size), e.g. a file in memory.
+std::string openexr_header_problem(const std::uint8_t* head, std::size_t head_size, std::uint64_t file_size,
+                                   std::uint64_t max_pixels);
 // The same, as an npf::Error naming `path`.
 void check_openexr_header(const std::string& path, std::uint64_t max_pixels);
 
