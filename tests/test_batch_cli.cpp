@@ -355,6 +355,39 @@ TEST(BatchCli, AGlobOverTheOutputFolderNeverFeedsOnTheBatchsOwnFiles) {
     }
 }
 
+// A batch publishes its outputs by the rules of every npf writer (docs/reliability.md sec. 1),
+// not by renaming its staged files over whatever is there: a link at an output's name is
+// followed (the link stays, its target gets the texture), a folder there is that material's
+// failure while the others convert, and a temporary left by a killed run is never an input.
+TEST(BatchCli, OutputsArePublishedByTheRulesOfEveryWriter) {
+    const std::string dir = npf::testing::temporary_folder("batch-publish-rules");
+    write_library(dir + "/out", false);  // inputs and outputs in one folder
+    fs::create_directories(dir + "/kept");
+    npf::testing::write_text(dir + "/kept/glossy-target.exr", "the link's target before the batch");
+    fs::create_symlink("../kept/glossy-target.exr", dir + "/out/glossy.exr");
+    fs::create_directories(dir + "/out/rough.exr");
+    npf::testing::write_text(dir + "/out/spectral.exr.tmp-0123456789abcdef", "left by a killed run");
+    const std::string cfg = dir + "/batch.yaml";
+    npf::testing::write_text(cfg, "output_dir: out\ninputs: ['out/*']\n" + std::string(npf::testing::kBatchTestDefaults));
+    const ToolRun r = batch_run({cfg, "--quiet"});
+    EXPECT_EQ(r.status, 4) << describe(r);
+    const batch::BatchSummary s = batch::read_summary_json(dir + "/out/batch-summary.json");
+    EXPECT_EQ(statuses(s), (std::map<std::string, std::string>{{"glossy", "converted"}, {"rough", "failed"}, {"spectral", "converted"}}))
+        << describe(r);
+    for (const batch::MaterialResult& m : s.materials) {
+        if (m.name == "rough") {
+            EXPECT_TRUE(contains(m.reason, "is a directory")) << m.reason;
+        }
+    }
+    ASSERT_TRUE(fs::is_symlink(dir + "/out/glossy.exr"));
+    EXPECT_EQ(fs::read_symlink(dir + "/out/glossy.exr"), fs::path("../kept/glossy-target.exr"));
+    const ToolRun info = npf::testing::run_tool({"info", dir + "/kept/glossy-target.exr"});
+    EXPECT_EQ(info.status, 0) << describe(info);
+    EXPECT_TRUE(fs::is_directory(dir + "/out/rough.exr"));
+    EXPECT_TRUE(fs::is_regular_file(dir + "/out/spectral.exr"));
+    EXPECT_TRUE(npf::testing::folder_entries(dir + "/out/.npf-batch/shard-0-of-1").empty());
+}
+
 // A summary in a folder that does not exist yet is written (the folder is made before any
 // conversion); one that cannot be made fails --check, and a run before it converts anything.
 TEST(BatchCli, TheSummaryFolderIsMadeOrRefusedBeforeConverting) {

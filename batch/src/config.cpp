@@ -1,5 +1,6 @@
 // Batch configuration: parsing, checking and the settings -> ConvertSettings mapping.
 #include <npf/batch/config.h>
+#include <npf/core/atomic_file.h>
 
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
@@ -308,6 +309,10 @@ public:
         if (is_under(p, m_out / "renders")) return "a validation render of the batch";
         const std::string file = p.filename().string();
         if (p.parent_path() == m_out && fits_naming(file, m_naming)) return "an output of the batch (naming '" + m_naming + "')";
+        const std::size_t tmp = file.rfind(kTemporarySuffix);
+        if (p.parent_path() == m_out && tmp != std::string::npos && is_temporary_of(file, file.substr(0, tmp)) &&
+            fits_naming(file.substr(0, tmp), m_naming))
+            return "an unfinished output of the batch (a temporary file left by a killed run)";
         const std::string base = m_summary.filename().string();
         if (p.parent_path() == m_summary.parent_path() &&
             (file == base + ".json" || file == base + ".md" ||

@@ -3,6 +3,7 @@
 #include "worker_process.h"
 
 #include <npf/batch/content_hash.h>
+#include <npf/core/atomic_file.h>
 #include <npf/converter/convert.h>
 #include <npf/converter/open_brdf.h>
 #include <npf/core/error.h>
@@ -202,11 +203,13 @@ void clear_folder(const std::string& dir) {
     for (const auto& e : fs::directory_iterator(dir, ec)) fs::remove_all(e.path(), ec);
 }
 
+// A finished file from the staging folder to its place, by the rules every npf output follows
+// (atomic_file.h): a link at the output's name is followed, a FIFO written through, a folder
+// refused, the bytes synced before the name changes.
 void move_into_place(const std::string& from, const std::string& to) {
     std::error_code ec;
     fs::create_directories(fs::path(to).parent_path(), ec);
-    fs::rename(from, to, ec);
-    if (ec) throw Error(to, "cannot move the finished file into place: " + ec.message());
+    publish_staged_file(from, to);
 }
 
 // OpenImageIO stamps every part of an OpenEXR file it writes with the time of writing (the

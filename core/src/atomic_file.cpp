@@ -74,6 +74,9 @@ std::string temporary_folder_prefix() {
 }
 
 // Writes all of `size` bytes to `fd` (a device or FIFO); returns 0 or the errno.
+// A temporary's name before its random part: the output's own name capped below NAME_MAX.
+std::string temporary_stem(const std::string& name) { return name.substr(0, 200) + kTemporarySuffix; }
+
 int write_all(int fd, const char* data, std::size_t size) {
     while (size > 0) {
         const ssize_t n = ::write(fd, data, size);
@@ -153,7 +156,7 @@ AtomicOutput::AtomicOutput(std::string path) : m_final(std::move(path)) {
     // leftover after kill -9 is recognisable.
     const std::size_t slash = m_target.find_last_of('/');
     const std::string name = m_write_through ? std::string("npf") : m_target.substr(slash == std::string::npos ? 0 : slash + 1);
-    const std::string stem = prefix + name.substr(0, 200) + ".tmp-";
+    const std::string stem = prefix + temporary_stem(name);
     const mode_t mode = m_write_through ? 0600 : 0666;  // a copy in /tmp is nobody else's business
     for (int attempt = 0; attempt < 16 && m_fd < 0; ++attempt) {
         std::string candidate = stem + random_hex(m_final);
@@ -284,6 +287,33 @@ void AtomicOutput::commit() {
     if (::close(out) != 0 && error == 0) error = errno;
     if (error != 0) throw Error(m_final, "cannot write: " + system_message(error));
     m_committed = true;
+}
+
+void publish_staged_file(const std::string& staged, const std::string& path) {
+    const int in = ::open(staged.c_str(), O_RDONLY | O_CLOEXEC);
+    if (in < 0) throw Error(staged, "cannot read the finished file: " + system_message(errno));
+    AtomicOutput out(path);
+    std::vector<char> buffer(1 << 20);
+    int error = 0;
+    for (std::uint64_t offset = 0;;) {
+        const ssize_t n = ::read(in, buffer.data(), buffer.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) error = errno;
+        if (n <= 0) break;
+        if (out.write_at(offset, buffer.data(), std::size_t(n)) != std::size_t(n)) break;  // kept for commit()
+        offset += std::uint64_t(n);
+    }
+    ::close(in);
+    if (error != 0) throw Error(staged, "cannot read the finished file: " + system_message(error));
+    out.commit();
+    ::unlink(staged.c_str());
+}
+
+bool is_temporary_of(const std::string& file, const std::string& output) {
+    const std::string stem = temporary_stem(output);
+    if (file.size() != stem.size() + 16 || file.compare(0, stem.size(), stem) != 0) return false;
+    return std::all_of(file.begin() + std::ptrdiff_t(stem.size()), file.end(),
+                       [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
 }
 
 void commit_together(std::initializer_list<AtomicOutput*> outputs) {

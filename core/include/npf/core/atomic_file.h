@@ -89,6 +89,19 @@ private:
 // both earlier outputs in place, short of a rename failing after another succeeded.
 void commit_together(std::initializer_list<AtomicOutput*> outputs);
 
+// Publishes a finished file written elsewhere (a batch worker's staging folder) to `path` by the
+// rules above: its bytes are copied into an AtomicOutput for `path` and committed, then `staged`
+// is removed. A rename of the staged file would skip them (it replaces a link or a FIFO at `path`
+// instead of following or writing through it, and syncs nothing). Throws npf::Error naming `path`
+// (or `staged` when it cannot be read); the earlier output is then untouched.
+void publish_staged_file(const std::string& staged, const std::string& path);
+
+// The name of a temporary AtomicOutput makes for `path` is `path` + this + 16 hex digits: a
+// leftover after kill -9 can be told from other files.
+inline constexpr const char* kTemporarySuffix = ".tmp-";
+// Whether `file` (a file name) is such a temporary of an output named `output` (a file name).
+bool is_temporary_of(const std::string& file, const std::string& output);
+
 // An OpenImageIO IOProxy writing into an AtomicOutput, so that OpenImageIO never opens a file by
 // name: instantiate as AtomicOutputProxy<OIIO::Filesystem::IOProxy> and pass it to
 // ImageOutput::set_ioproxy() before open(). A template so that npf_core does not depend on
