@@ -13,6 +13,7 @@
 #include <npf/converter/rgl_brdf.h>
 #include <npf/converter/rgl_writer.h>
 #include <npf/core/error.h>
+#include <npf/core/rec709_luminance.h>
 
 #include <algorithm>
 #include <cmath>
@@ -49,8 +50,8 @@ Errors measure(const npf::Brdf& source, const npf::Brdf& file, int pairs) {
         float a[3], b[3];
         source.eval_cos(wi, wo, sq, a);
         file.eval_cos(wi, wo, fq, b);
-        const double ya = 0.2126 * a[0] + 0.7152 * a[1] + 0.0722 * a[2];
-        const double yb = 0.2126 * b[0] + 0.7152 * b[1] + 0.0722 * b[2];
+        const double ya = npf::rec709_luminance(a[0], a[1], a[2]);
+        const double yb = npf::rec709_luminance(b[0], b[1], b[2]);
         values.emplace_back(ya, yb);
         largest = std::max(largest, ya);
     }

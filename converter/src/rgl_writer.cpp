@@ -7,11 +7,13 @@
 #include <npf/converter/tensor_file.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/core/rec709_luminance.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <exception>
+#include <iterator>
 #include <cmath>
 #include <mutex>
 #include <random>
@@ -77,7 +79,7 @@ struct LuminanceWeights {
     std::vector<double> w;
     explicit LuminanceWeights(const Channels& c) {
         if (c.is_rgb()) {
-            w = {0.2126, 0.7152, 0.0722};
+            w.assign(std::begin(kRec709Luminance), std::end(kRec709Luminance));
         } else {
             w = color::luminance_weights(c.wavelengths());
         }

@@ -1,5 +1,6 @@
 #include <npf/core/json_text.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -27,10 +28,10 @@ std::string json_string(const std::string& text) {
     return out + "\"";
 }
 
-std::string json_number(double v) {
+std::string json_number(double v, int significant_digits) {
     if (!std::isfinite(v)) return "null";
     char b[40];
-    std::snprintf(b, sizeof b, "%.9g", v);
+    std::snprintf(b, sizeof b, "%.*g", std::clamp(significant_digits, 1, 17), v);
     return b;
 }
 

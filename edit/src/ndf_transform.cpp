@@ -16,7 +16,6 @@ namespace npf::edit {
 namespace {
 
 const char* const kSource = "ndf transform";
-constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
 
 double determinant(const Mat3& a) {
     return a(0, 0) * (a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)) - a(0, 1) * (a(1, 0) * a(2, 2) - a(1, 2) * a(2, 0)) +

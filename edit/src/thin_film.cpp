@@ -16,7 +16,6 @@ namespace npf::edit {
 namespace {
 
 const char* const kSource = "thin film";
-constexpr double kHalfPi = 0.5 * kPiD;
 // Dominant wavelengths of the sRGB primaries R, G, B (nm): where an RGB channel's index sits.
 constexpr double kRgbWavelengths[3] = {611.0, 549.0, 464.0};
 constexpr double kFitMaxThetaDeg = 80.0;
@@ -90,10 +89,10 @@ FittedBase fit_base_ior(const NpfModel& model) {
     const std::size_t C = model.channel_count();
     const int n = model.f_theta;
     Curve curve;
-    curve.cos0 = std::cos(kHalfPi * 0.5 / n);
+    curve.cos0 = std::cos(kHalfPiD * 0.5 / n);
     std::vector<int> cells;
     for (int i = 1; i < n; ++i) {
-        const double theta = kHalfPi * (i + 0.5) / n;
+        const double theta = kHalfPiD * (i + 0.5) / n;
         if (theta * 180.0 / kPiD > kFitMaxThetaDeg) break;
         cells.push_back(i);
         curve.cos_theta.push_back(std::cos(theta));
@@ -184,7 +183,7 @@ NpfModel apply_thin_film(const NpfModel& model, const ThinFilm& film, EditRecord
         for (std::size_t c = 0; c < C; ++c) {
             const Fresnel::Coefficients kw = with.coefficients(wl[c]), kb = bare.coefficients(wl[c]);
             for (int i = 0; i < n; ++i) {
-                const double ct = std::cos(kHalfPi * (i + 0.5) / n);
+                const double ct = std::cos(kHalfPiD * (i + 0.5) / n);
                 r_film[c * std::size_t(n) + std::size_t(i)] = with.eval(ct, kw);
                 r_bare[c * std::size_t(n) + std::size_t(i)] = bare.eval(ct, kb);
             }
@@ -196,7 +195,7 @@ NpfModel apply_thin_film(const NpfModel& model, const ThinFilm& film, EditRecord
         std::vector<Fresnel::Coefficients> kw, kb;
         for (float l : grid) kw.push_back(with.coefficients(l)), kb.push_back(bare.coefficients(l));
         for (int i = 0; i < n; ++i) {
-            const double ct = std::cos(kHalfPi * (i + 0.5) / n);
+            const double ct = std::cos(kHalfPiD * (i + 0.5) / n);
             double a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
             for (std::size_t j = 0; j < grid.size(); ++j) {
                 const double rf = with.eval(ct, kw[j]), rb = bare.eval(ct, kb[j]);

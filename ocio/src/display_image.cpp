@@ -3,6 +3,7 @@
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 #include <npf/core/openexr_header.h>
+#include <npf/core/text.h>
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -15,11 +16,6 @@
 namespace npf::color {
 
 namespace {
-
-std::string first_line(const std::string& s) {
-    const std::size_t nl = s.find('\n');
-    return nl == std::string::npos ? s : s.substr(0, nl);
-}
 
 std::uint8_t to_8bit(float v) {
     if (!(v > 0.0f)) return 0;  // also NaN

@@ -2,6 +2,8 @@
 
 #include <npf/core/error.h>
 #include <npf/core/openexr_header.h>
+#include <npf/core/rec709_luminance.h>
+#include <npf/core/text.h>
 
 #include <OpenImageIO/imageio.h>
 
@@ -14,20 +16,13 @@ namespace npf::render {
 
 namespace {
 
-constexpr double kPi = kPiD;
-
-std::string first_line(const std::string& s) {
-    const std::size_t nl = s.find('\n');
-    return nl == std::string::npos ? s : s.substr(0, nl);
-}
-
 // sin(theta) of a unit direction, theta from +y: exact near the poles, unlike sin(acos(y)).
 double sin_theta(const Vec3& d) { return std::sqrt(double(d.x) * d.x + double(d.z) * d.z); }
 
 }  // namespace
 
 Vec3 latlong_direction(const Vec2& uv) {
-    const double theta = kPi * double(uv.y), phi = 2.0 * kPi * (double(uv.x) - 0.5);
+    const double theta = kPiD * double(uv.y), phi = kTwoPiD * (double(uv.x) - 0.5);
     const double st = std::sin(theta);
     return {float(st * std::sin(phi)), float(std::cos(theta)), float(-st * std::cos(phi))};
 }
@@ -37,7 +32,7 @@ Vec2 latlong_coordinates(const Vec3& d) {
     // theta = acos(y), written with atan2 so that it keeps its precision near the poles.
     const double theta = std::atan2(sin_theta(d), y);
     const double phi = std::atan2(double(d.x), -double(d.z));  // (-pi, pi]
-    return {float(std::clamp(phi / (2.0 * kPi) + 0.5, 0.0, 1.0)), float(std::clamp(theta / kPi, 0.0, 1.0))};
+    return {float(std::clamp(phi / kTwoPiD + 0.5, 0.0, 1.0)), float(std::clamp(theta / kPiD, 0.0, 1.0))};
 }
 
 EnvironmentMap::EnvironmentMap(std::size_t width, std::size_t height, std::vector<float> rgb, std::string source)
@@ -106,17 +101,17 @@ void EnvironmentMap::build_distribution() {
     std::vector<double> weights(m_width * m_height);
     double total = 0.0;
     for (std::size_t r = 0; r < m_height; ++r) {
-        const double st = std::sin(kPi * (double(r) + 0.5) / double(m_height));
+        const double st = std::sin(kPiD * (double(r) + 0.5) / double(m_height));
         for (std::size_t c = 0; c < m_width; ++c) {
             const float* p = &m_rgb[(r * m_width + c) * 3];
-            const double lum = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+            const double lum = rec709_luminance(p[0], p[1], p[2]);
             total += (weights[r * m_width + c] = lum * st);
         }
     }
     if (!(total > 0.0) || !std::isfinite(total)) {
         // Black (or absurdly bright) everywhere: uniform in solid angle (weights sin theta).
         for (std::size_t r = 0; r < m_height; ++r) {
-            const double st = std::sin(kPi * (double(r) + 0.5) / double(m_height));
+            const double st = std::sin(kPiD * (double(r) + 0.5) / double(m_height));
             std::fill(weights.begin() + std::ptrdiff_t(r * m_width), weights.begin() + std::ptrdiff_t((r + 1) * m_width), st);
         }
     }
@@ -130,7 +125,7 @@ std::uint32_t EnvironmentMap::texel(const Vec3& direction) const {
 bool EnvironmentMap::sample(const Vec2& rnd, EnvironmentSample& s) const {
     std::size_t cell = 0;
     const Vec2 uv = m_distribution.sample(rnd, cell);
-    const double theta = kPi * double(uv.y), phi = 2.0 * kPi * (double(uv.x) - 0.5);
+    const double theta = kPiD * double(uv.y), phi = kTwoPiD * (double(uv.x) - 0.5);
     const double st = std::sin(theta);
     s.texel = std::uint32_t(cell);
     s.direction = {float(st * std::sin(phi)), float(std::cos(theta)), float(-st * std::cos(phi))};
@@ -138,14 +133,14 @@ bool EnvironmentMap::sample(const Vec2& rnd, EnvironmentSample& s) const {
         s.pdf = 0.f;
         return false;
     }
-    s.pdf = float(m_distribution.density(cell) / (2.0 * kPi * kPi * st));
+    s.pdf = float(m_distribution.density(cell) / (kTwoPiD * kPiD * st));
     return std::isfinite(s.pdf) && s.pdf > 0.f;
 }
 
 float EnvironmentMap::pdf(const Vec3& direction, std::uint32_t texel_index) const {
     const double st = sin_theta(direction);
     if (!(st > 0.0)) return 0.f;
-    const float p = float(m_distribution.density(texel_index) / (2.0 * kPi * kPi * st));
+    const float p = float(m_distribution.density(texel_index) / (kTwoPiD * kPiD * st));
     return std::isfinite(p) ? p : 0.f;
 }
 

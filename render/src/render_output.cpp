@@ -2,6 +2,7 @@
 
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/core/text.h>
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -13,11 +14,6 @@
 namespace npf::render {
 
 namespace {
-
-std::string first_line(const std::string& s) {
-    const std::size_t nl = s.find('\n');
-    return nl == std::string::npos ? s : s.substr(0, nl);
-}
 
 std::string number(double v) {
     char b[32];

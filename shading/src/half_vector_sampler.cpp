@@ -12,9 +12,6 @@
 
 namespace npf {
 
-using equation::kHalfPi;
-using equation::kTwoPi;
-
 HalfVectorSampler::HalfVectorSampler(const std::vector<double>& d_bar, int d_theta, int d_phi)
     : m_theta(d_theta), m_phi(d_phi) {
     if (d_theta < 1 || d_phi < 1 || d_bar.size() != std::size_t(d_theta) * std::size_t(d_phi)) {
@@ -25,7 +22,7 @@ HalfVectorSampler::HalfVectorSampler(const std::vector<double>& d_bar, int d_the
         const double theta = equation::theta_h_of_u(double(k) / d_theta), s = std::sin(0.5 * theta);
         m_half_sin2[std::size_t(k)] = s * s;
     }
-    const double d_phi_width = kTwoPi / d_phi;
+    const double d_phi_width = kTwoPiD / d_phi;
     m_inv_solid_angle.resize(std::size_t(d_theta));
     std::vector<double> weight(d_bar.size());
     for (int k = 0; k < d_theta; ++k) {
@@ -62,7 +59,7 @@ Vec3 HalfVectorSampler::sample(float u1, float u2) const {
     const double s0 = m_half_sin2[k], s1 = m_half_sin2[k + 1];
     const double s = s0 + (s1 - s0) * double(cell.remainder);
     const double cos_theta = 1.0 - 2.0 * s, sin_theta = 2.0 * std::sqrt(std::max(0.0, s * (1.0 - s)));
-    const double phi = kTwoPi * (double(j) + double(u2)) / m_phi;
+    const double phi = kTwoPiD * (double(j) + double(u2)) / m_phi;
     return Vec3(float(sin_theta * std::cos(phi)), float(sin_theta * std::sin(phi)), float(cos_theta));
 }
 
@@ -73,9 +70,9 @@ double HalfVectorSampler::pdf(const Vec3& h) const {
 }
 
 double HalfVectorSampler::pdf(double theta, double u, double phi) const {
-    if (m_cells.empty() || !(theta < kHalfPi) || !(phi >= 0.0)) return 0.0;
+    if (m_cells.empty() || !(theta < kHalfPiD) || !(phi >= 0.0)) return 0.0;
     const int k = std::min(int(u * m_theta), m_theta - 1);
-    const int j = std::min(int(phi / kTwoPi * m_phi), m_phi - 1);
+    const int j = std::min(int(phi / kTwoPiD * m_phi), m_phi - 1);
     return double(m_cells.pmf(std::size_t(k) * std::size_t(m_phi) + std::size_t(j))) * m_inv_solid_angle[std::size_t(k)];
 }
 

@@ -5,14 +5,16 @@
 
 #include <npf/color/spectrum.h>
 #include <npf/core/channels.h>
+#include <npf/core/rec709_luminance.h>
 
 #include <algorithm>
+#include <iterator>
 #include <vector>
 
 namespace npf {
 
 inline std::vector<double> luminance_weights_of(const Channels& channels) {
-    if (channels.is_rgb()) return {0.2126, 0.7152, 0.0722};
+    if (channels.is_rgb()) return std::vector<double>(std::begin(kRec709Luminance), std::end(kRec709Luminance));
     const std::size_t C = channels.size();
     std::vector<double> y = color::luminance_weights(channels.wavelengths());
     double sum = 0.0;

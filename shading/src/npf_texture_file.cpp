@@ -7,6 +7,7 @@
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
 #include <npf/core/openexr_header.h>
+#include <npf/core/text.h>
 
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/texture.h>
@@ -58,11 +59,6 @@ public:
     // All channels of a part as float, interleaved; false with `why` on failure.
     virtual bool read(const Part& p, float* pixels, std::string& why) = 0;
 };
-
-std::string first_line(const std::string& s) {
-    const std::size_t nl = s.find('\n');
-    return nl == std::string::npos ? s : s.substr(0, nl);
-}
 
 class FileSource final : public PartSource {
 public:

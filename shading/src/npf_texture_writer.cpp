@@ -3,6 +3,7 @@
 
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/core/text.h>
 #include <npf/shading/npf_texture_layout.h>
 
 #include <OpenImageIO/filesystem.h>
@@ -196,11 +197,6 @@ std::vector<PartData> make_parts(const NpfModel& m) {
         parts.push_back(std::move(r));
     }
     return parts;
-}
-
-std::string first_line(const std::string& s) {
-    const std::size_t nl = s.find('\n');
-    return nl == std::string::npos ? s : s.substr(0, nl);
 }
 
 // Reads the written file back and compares every part's pixels with what was meant, bit for

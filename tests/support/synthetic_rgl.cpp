@@ -1,6 +1,7 @@
 #include "synthetic_rgl.h"
 
 #include <npf/core/error.h>
+#include <npf/core/rec709_luminance.h>
 #include <npf/core/vec.h>
 
 #include <algorithm>
@@ -218,7 +219,7 @@ std::vector<SyntheticField> synthetic_rgl_fields(const SyntheticRglSpec& spec) {
                     for (std::size_t ch = 0; ch < nC; ++ch) y += d0[ch * dplane + i];
                     y /= double(nC);
                 } else {
-                    y = 0.2126 * d0[i] + 0.7152 * d0[dplane + i] + 0.0722 * d0[2 * dplane + i];
+                    y = npf::rec709_luminance(d0[i], d0[dplane + i], d0[2 * dplane + i]);
                 }
                 lplane[i] = float(y);
                 peak = std::max(peak, lplane[i]);

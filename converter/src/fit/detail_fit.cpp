@@ -21,7 +21,6 @@ namespace npf {
 
 namespace {
 
-constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
 constexpr int kStencil = fit_detail::kDetailStencil;
 // Channels beyond this many share one data weight (from their mean), and so one matrix: a
 // spectral material's neighbouring wavelengths then also warm-start each other's solve.
@@ -226,13 +225,13 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
     for (int b = 0; b < sd; ++b) {
         const double td = equation::theta_centre(b, sd);
         ad.angle.push_back(td);
-        ad.measure.push_back(kHalfPi / sd);
+        ad.measure.push_back(kHalfPiD / sd);
         ad.lerp.push_back(detail_position(g, 0.0, td, 0.0).d);
     }
     for (int c = 0; c < sp; ++c) {
         const double pd = equation::phi_centre(c, sp);
         ap.angle.push_back(pd);
-        ap.measure.push_back(kTwoPi / sp);
+        ap.measure.push_back(kTwoPiD / sp);
         ap.lerp.push_back(detail_position(g, 0.0, 0.0, pd).p);
     }
     // Sample (a, b, c, e): theta_h, theta_d, phi_d and phi_h indices, in storage order.
@@ -263,7 +262,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
                         model.eval_all(fi, fo, base.data());
                         const double measure = 4.0 * std::sin(hd.theta_h) * std::sin(hd.theta_d) *
                                                std::cos(hd.theta_d) * ah.measure[a] * ad.measure[std::size_t(b)] *
-                                               ap.measure[std::size_t(c)] * (kTwoPi / se) * wi.z * wo.z;
+                                               ap.measure[std::size_t(c)] * (kTwoPiD / se) * wi.z * wo.z;
                         double mean = 0.0;
                         bool finite = true;
                         for (std::size_t ch = 0; ch < C; ++ch) {
@@ -432,13 +431,13 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
                     const double u = (a + 0.5) / kU, theta_h = equation::theta_h_of_u(u);
                     const double dtheta = kPiD * u / kU, sh_ = std::sin(theta_h), ch_ = std::cos(theta_h);
                     for (int b = 0; b < kPhi; ++b) {
-                        const double phi = kTwoPi * (b + 0.5) / kPhi;
+                        const double phi = kTwoPiD * (b + 0.5) / kPhi;
                         const Vec3d h{sh_ * std::cos(phi), sh_ * std::sin(phi), ch_};
                         const double cos_ih = wi.x * h.x + wi.y * h.y + wi.z * h.z;
                         if (!(cos_ih > 0.0)) continue;
                         const Vec3d wo{2.0 * cos_ih * h.x - wi.x, 2.0 * cos_ih * h.y - wi.y, 2.0 * cos_ih * h.z - wi.z};
                         if (!(wo.z > 1e-6) || !(wi.z > 1e-6)) continue;
-                        const double q = 4.0 * cos_ih * sh_ * dtheta * (kTwoPi / kPhi) * wo.z;
+                        const double q = 4.0 * cos_ih * sh_ * dtheta * (kTwoPiD / kPhi) * wo.z;
                         const Vec3 fi = to_float(wi), fo = to_float(wo);
                         source.eval_cos(fi, fo, query, raw.data());
                         model.eval_all(fi, fo, base.data());

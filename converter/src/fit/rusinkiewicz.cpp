@@ -9,11 +9,9 @@ namespace npf {
 
 namespace {
 
-constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
-
 double wrap_two_pi(double phi) {
-    phi = std::fmod(phi, kTwoPi);
-    return phi < 0.0 ? phi + kTwoPi : phi;
+    phi = std::fmod(phi, kTwoPiD);
+    return phi < 0.0 ? phi + kTwoPiD : phi;
 }
 
 // Angle of a unit vector from +z, accurate near the pole (2 asin(|w - z| / 2)).
@@ -66,7 +64,7 @@ double RusinkiewiczGrid::phi_d_at(int k) const { return equation::phi_centre(k, 
 double RusinkiewiczGrid::volume_weight(int theta_h_index, int theta_d_index) const {
     const double u = (theta_h_index + 0.5) / theta_h;
     const double du = 1.0 / theta_h;
-    const double d_theta_d = kHalfPi / theta_d, d_phi_h = kTwoPi / phi_h, d_phi_d = kTwoPi / phi_d;
+    const double d_theta_d = kHalfPiD / theta_d, d_phi_h = kTwoPiD / phi_h, d_phi_d = kTwoPiD / phi_d;
     const double th = theta_h_at(theta_h_index), td = theta_d_at(theta_d_index);
     return 4.0 * std::sin(th) * std::sin(td) * std::cos(td) * (kPiD * u * du) * d_phi_h * d_theta_d * d_phi_d;
 }

@@ -13,8 +13,6 @@ namespace npf::fit_detail {
 
 namespace {
 
-constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
-
 int g_theta_cell(double z, int n) { return equation::g_owner_row(std::acos(std::clamp(z, -1.0, 1.0)), n); }
 
 // The theta neighbour of a direction's owner G cell and its interpolation weight: linear between
@@ -35,7 +33,7 @@ void g_theta_neighbour(double z, int n, int owner_row, int& neighbour_row, float
 int g_phi_cell(double x, double y, int n) {
     if (n == 1) return 0;
     double phi = std::atan2(y, x);
-    if (phi < 0.0) phi += kTwoPi;
+    if (phi < 0.0) phi += kTwoPiD;
     return std::min(int(phi * equation::kInvTwoPi * n), n - 1);
 }
 
@@ -58,7 +56,7 @@ double volume_weight(const AwlsOptions& o, int ih, int id, int phi_d_samples) {
     // Three-angle form: our reading of Bagher et al.'s weight applied to the sqrt-mapped grid,
     // i.e. without the Jacobian d(theta_h) = pi u du of the square-root map (docs/fitting.md).
     const double u = (ih + 0.5) / g.theta_h;
-    return cell / (kPiD * u) * kHalfPi;
+    return cell / (kPiD * u) * kHalfPiD;
 }
 
 struct Part {
@@ -87,7 +85,7 @@ SampleSet make_sample_set(const AwlsOptions& o, int threads) {
                     std::uint32_t count = 0;
                     for (int k = 0; k < phi_d_samples; ++k) {
                         const HalfDiff a{grid.theta_h_at(ih), grid.phi_h_at(jh), grid.theta_d_at(id),
-                                         kTwoPi * (k + offset) / phi_d_samples};
+                                         kTwoPiD * (k + offset) / phi_d_samples};
                         Vec3d wi, wo;
                         directions_from_half_diff(a, wi, wo);
                         if (!(wi.z > 1e-6) || !(wo.z > 1e-6)) continue;

@@ -52,5 +52,8 @@ inline Vec3 spherical_direction(float theta, float phi) {
 
 constexpr float kPi = 3.14159265358979323846f;
 constexpr double kPiD = 3.14159265358979323846;
+// The D suffix as for kPiD: double, as the fit, the equation and the edits need. Both scalings
+// are exact, so 0.5 * kPiD and kHalfPiD are the same double.
+constexpr double kHalfPiD = 0.5 * kPiD, kTwoPiD = 2.0 * kPiD;
 
 }  // namespace npf

@@ -21,7 +21,8 @@
 
 namespace npf::equation {
 
-constexpr double kHalfPi = 0.5 * kPiD, kTwoPi = 2.0 * kPiD;
+// The equation's names for npf::kHalfPiD and npf::kTwoPiD (core/vec.h), not other values.
+constexpr double kHalfPi = kHalfPiD, kTwoPi = kTwoPiD;
 // Multiplications by these rather than divisions: the shading hot path has a dozen per pair.
 constexpr double kInvHalfPi = 1.0 / kHalfPi, kInvTwoPi = 1.0 / kTwoPi;
 

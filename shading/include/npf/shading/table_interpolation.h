@@ -98,7 +98,7 @@ inline double atan_reduced(double q) {
 // atan(small / big) in [0, pi/4] for 0 <= small <= big: past tan(pi/8) the identity
 // atan(r) = pi/4 + atan((r - 1) / (r + 1)) keeps the polynomial's argument small. (0, 0) gives 0.
 inline double atan_ratio(double small, double big) {
-    constexpr double kTanPiOver8 = 0.41421356237309503, kQuarterPi = 0.78539816339744831;
+    constexpr double kTanPiOver8 = 0.41421356237309503, kQuarterPi = 0.25 * kPiD;
     const bool shift = small > kTanPiOver8 * big;
     const double num = shift ? small - big : small;
     const double den = shift ? small + big : (big == 0.0 ? 1.0 : big);
@@ -109,31 +109,29 @@ inline double atan_ratio(double small, double big) {
 
 // atan2(y, x) in (-pi, pi], accurate to 3e-13 rad. atan2(0, 0) is 0; NaN in, NaN out.
 inline double atan2(double y, double x) {
-    constexpr double kHalfPi = 1.5707963267948966, kPi = 3.141592653589793;
     const double ax = std::fabs(x), ay = std::fabs(y);
     const bool swap = ay > ax;
     double r = detail::atan_ratio(swap ? ax : ay, swap ? ay : ax);
-    r = swap ? kHalfPi - r : r;
-    r = x < 0.0 ? kPi - r : r;
+    r = swap ? kHalfPiD - r : r;
+    r = x < 0.0 ? kPiD - r : r;
     return y < 0.0 ? -r : r;
 }
 
 // Angle from +z, in [0, pi], of a vector whose distance from the z axis is r >= 0: atan2(r, z),
 // which keeps the angle accurate near the pole, where acos loses half the digits.
 inline double polar_of(double r, double z) {
-    constexpr double kHalfPi = 1.5707963267948966, kPi = 3.141592653589793;
     const double az = std::fabs(z);
     const bool swap = r > az;
     double a = detail::atan_ratio(swap ? az : r, swap ? r : az);
-    a = swap ? kHalfPi - a : a;
-    return z < 0.0 ? kPi - a : a;
+    a = swap ? kHalfPiD - a : a;
+    return z < 0.0 ? kPiD - a : a;
 }
 
 // Angle from +z and azimuth in [0, 2 pi) of a direction.
 inline double polar(double x, double y, double z) { return polar_of(std::sqrt(x * x + y * y), z); }
 inline double azimuth(double x, double y) {
     const double phi = table::atan2(y, x);
-    return phi < 0.0 ? phi + 2.0 * kPiD : phi;
+    return phi < 0.0 ? phi + kTwoPiD : phi;
 }
 
 }  // namespace npf::table
