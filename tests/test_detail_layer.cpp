@@ -263,7 +263,7 @@ TEST(DetailLayer, SampleWeightsIncludeTheDetail) {
         npf::ClosureSample s;
         float weight[3], value[3];
         if (!closure.sample(wo, uni(rng), uni(rng), WavelengthRequest::stored(), s, weight)) continue;
-        const float pdf = closure.eval(wo, s.wi, WavelengthRequest::stored(), value);
+        const float pdf = closure.eval(wo, s.light, WavelengthRequest::stored(), value);
         ASSERT_EQ(pdf, s.pdf);
         for (int c = 0; c < 3; ++c) ASSERT_NEAR(weight[c], value[c] / pdf, 1e-5f * value[c] / pdf);
         ++checked;

@@ -464,7 +464,7 @@ TEST(NpfClosure, WeightsAreFiniteAtGrazingViews) {
             ++accepted;
             ASSERT_GT(s.pdf, 0.f);
             ASSERT_TRUE(std::isfinite(s.pdf));
-            ASSERT_GT(s.wi.z, 0.f);
+            ASSERT_GT(s.light.z, 0.f);
             for (float x : w) {
                 ASSERT_TRUE(std::isfinite(x)) << "wo.z " << z;
                 ASSERT_GE(x, 0.f);
@@ -496,7 +496,7 @@ TEST(NpfClosure, ThreadsShadeAlike) {
                 out.insert(out.end(), v, v + 4);
                 ClosureSample s;
                 c.sample(wo, u.next_float(), u.next_float(), WavelengthRequest::at(hero, 4), s, v);
-                out.insert(out.end(), {s.wi.x, s.wi.y, s.wi.z, s.pdf});
+                out.insert(out.end(), {s.light.x, s.light.y, s.light.z, s.pdf});
                 out.insert(out.end(), v, v + 4);
             }
         };

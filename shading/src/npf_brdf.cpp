@@ -80,17 +80,17 @@ WavelengthRequest request_of(const ChannelQuery& query) {
 }
 }  // namespace
 
-// npf::Brdf conditions on wi (the closure's wo) and returns f_r cos of its wo (the closure's wi).
+// npf::Brdf's wi is the closure's view, its wo the closure's light (docs/conventions.md).
 void NpfBrdf::eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& query, float* out) const {
-    m_closure->eval(wi, wo, request_of(query), out);
+    m_closure->eval(/*view=*/wi, /*light=*/wo, request_of(query), out);
 }
 
-float NpfBrdf::pdf(const Vec3& wi, const Vec3& wo) const { return m_closure->pdf(wi, wo); }
+float NpfBrdf::pdf(const Vec3& wi, const Vec3& wo) const { return m_closure->pdf(/*view=*/wi, /*light=*/wo); }
 
 bool NpfBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s, float* weight) const {
     ClosureSample c;
-    const bool ok = m_closure->sample(wi, u.x, u.y, request_of(query), c, weight);
-    s.wo = c.wi;
+    const bool ok = m_closure->sample(/*view=*/wi, u.x, u.y, request_of(query), c, weight);
+    s.wo = c.light;
     s.pdf = ok ? c.pdf : 0.f;
     return ok;
 }

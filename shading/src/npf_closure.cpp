@@ -20,7 +20,7 @@ namespace {
 
 constexpr double kInvPi = 1.0 / kPiD;
 
-// Finite float of a double (a grazing wo can push f_r cos / pdf past float's range).
+// Finite float of a double (a grazing view can push f_r cos / pdf past float's range).
 float finite_float(double v) {
     constexpr double kMax = std::numeric_limits<float>::max();
     if (!(v == v)) return 0.f;
@@ -51,12 +51,12 @@ double specular_albedo_at_normal(const NpfModel& m, const HalfVectorSampler& sam
     for (int a = 0; a < kStrata; ++a) {
         for (int b = 0; b < kStrata; ++b) {
             const Vec3 h = sampler.sample((a + 0.5f) / kStrata, (b + 0.5f) / kStrata);
-            const Vec3 wi = reflect(normal, h);
+            const Vec3 light = reflect(normal, h);
             const double pdf = sampler.pdf(h) / (4.0 * std::max(double(h.z), 1e-12));
-            if (!(wi.z > 0.f) || !(pdf > 0.0) || !m.prepare(normal, wi, at)) continue;
+            if (!(light.z > 0.f) || !(pdf > 0.0) || !m.prepare(normal, light, at)) continue;
             double f = 0.0;
             for (std::size_t c = 0; c < y.size(); ++c) f += y[c] * (m.value(at, c) - m.rho_d[c] - detail_value(m, at, c));
-            sum += f * wi.z / pdf;
+            sum += f * light.z / pdf;
         }
     }
     return std::max(0.0, sum / (kStrata * kStrata));
@@ -73,8 +73,8 @@ double detail_albedo_at_normal(const NpfModel& m, const std::vector<double>& y) 
     NpfModel::Lookup at;
     for (int a = 0; a < kStrata; ++a) {
         for (int b = 0; b < kStrata; ++b) {
-            const Vec3 wi = cosine_hemisphere_direction(Vec2{(a + 0.5f) / kStrata, (b + 0.5f) / kStrata});
-            if (!m.prepare(normal, wi, at)) continue;
+            const Vec3 light = cosine_hemisphere_direction(Vec2{(a + 0.5f) / kStrata, (b + 0.5f) / kStrata});
+            if (!m.prepare(normal, light, at)) continue;
             double r = 0.0;
             for (std::size_t c = 0; c < y.size(); ++c) r += y[c] * detail_value(m, at, c);
             sum += std::max(0.0, r) * kPiD;  // f cos / (cos / pi)
@@ -137,10 +137,9 @@ std::size_t NpfClosure::value_count(WavelengthRequest request) const {
     return std::size_t(std::max(request.count, 0));
 }
 
-bool NpfClosure::lookup(const Vec3& wo, const Vec3& wi, NpfModel::Lookup& at) const {
-    // The model conditions on its `wi`, the viewer side: our wo.
-    if (!m_texture) return m_model.prepare(wo, wi, at);
-    if (!m_model.prepare(wo, wi, at, /*project_bases=*/false)) return false;
+bool NpfClosure::lookup(const Vec3& view, const Vec3& light, NpfModel::Lookup& at) const {
+    if (!m_texture) return m_model.prepare(view, light, at);
+    if (!m_model.prepare(view, light, at, /*project_bases=*/false)) return false;
     return m_texture->fill(at);
 }
 
@@ -169,9 +168,9 @@ float NpfClosure::pdf_at(double theta_h, double u_h, double phi_h, double cos_d,
     return finite_float(p);
 }
 
-float NpfClosure::eval(const Vec3& wo, const Vec3& wi, WavelengthRequest request, float* value) const {
+float NpfClosure::eval(const Vec3& view, const Vec3& light, WavelengthRequest request, float* value) const {
     NpfModel::Lookup at;
-    if (!lookup(wo, wi, at)) {
+    if (!lookup(view, light, at)) {
         std::fill(value, value + value_count(request), 0.f);
         return 0.f;
     }
@@ -179,38 +178,38 @@ float NpfClosure::eval(const Vec3& wo, const Vec3& wi, WavelengthRequest request
     return pdf_at(at.theta_h, at.u_h, at.phi_h, at.cos_d, at.cos_o);
 }
 
-float NpfClosure::pdf(const Vec3& wo, const Vec3& wi) const {
+float NpfClosure::pdf(const Vec3& view, const Vec3& light) const {
     // Only the half vector is needed, computed by the same code as in eval, so that eval's pdf
     // and this one agree to the bit.
     NpfModel::HalfVector h;
-    if (!m_model.half_vector(wo, wi, h)) return 0.f;
+    if (!m_model.half_vector(view, light, h)) return 0.f;
     return pdf_at(h.theta_h, h.u_h, h.phi_h, h.cos_d, h.cos_o);
 }
 
-bool NpfClosure::sample_direction(const Vec3& wo, float u1, float u2, ClosureSample& s) const {
-    if (!(wo.z > 0.f)) return false;
+bool NpfClosure::sample_direction(const Vec3& view, float u1, float u2, ClosureSample& s) const {
+    if (!(view.z > 0.f)) return false;
     const double pd = m_diffuse_probability;
     if (u2 < pd) {
         // Stretch u2 back to [0, 1) for the strategy's own use.
         const float v = std::min(float(u2 / pd), 0x1.fffffep-1f);
-        s.wi = cosine_hemisphere_direction(Vec2{u1, v});
+        s.light = cosine_hemisphere_direction(Vec2{u1, v});
     } else {
         const float v = std::min(float((u2 - pd) / (1.0 - pd)), 0x1.fffffep-1f);
-        s.wi = reflect(wo, m_sampler.sample(u1, v));
+        s.light = reflect(view, m_sampler.sample(u1, v));
     }
-    if (!(s.wi.z > 0.f)) return false;
-    s.pdf = pdf(wo, s.wi);
+    if (!(s.light.z > 0.f)) return false;
+    s.pdf = pdf(view, s.light);
     return s.pdf > 0.f;
 }
 
-bool NpfClosure::sample(const Vec3& wo, float u1, float u2, WavelengthRequest request, ClosureSample& s,
+bool NpfClosure::sample(const Vec3& view, float u1, float u2, WavelengthRequest request, ClosureSample& s,
                         float* weight) const {
     const std::size_t n = value_count(request);
     if (weight) std::fill(weight, weight + n, 0.f);
-    if (!sample_direction(wo, u1, u2, s)) return false;
+    if (!sample_direction(view, u1, u2, s)) return false;
     if (!weight) return true;
     NpfModel::Lookup at;
-    if (!lookup(wo, s.wi, at)) return false;
+    if (!lookup(view, s.light, at)) return false;
     write_values(at, at.cos_o, request, weight);
     const double inv_pdf = 1.0 / double(s.pdf);
     for (std::size_t k = 0; k < n; ++k) weight[k] = finite_float(weight[k] * inv_pdf);

@@ -5,12 +5,15 @@
 //  - from the same tables baked into arrays (Path::Memory): the fast path, the evaluation the
 //    converter itself uses (NpfModel), same results to float rounding.
 //
-// Conventions (those of OSL closures and pbrt's BSDF::f, not of npf::Brdf):
+// Conventions (docs/conventions.md): the directions are named by their roles, not wi/wo, whose
+// meaning differs between OSL and pbrt (wo towards the viewer) and npf::Brdf, Mitsuba and the RGL
+// files (wi towards the viewer):
 //  - Local shading frame: z = normal, x = tangent (phi = 0), y = bitangent.
-//  - `wo` is the direction towards the viewer (the one a query is conditioned on), `wi` towards
-//    the light (the one `sample` draws). Both point away from the surface. The NPF model is
-//    reciprocal, so only the cosine factor depends on which is which.
-//  - Values are f_r(wo, wi) cos(theta_i); weights are value / pdf; pdf is per solid angle of wi.
+//  - `view` points towards the viewer (the direction a query is conditioned on: npf::Brdf's wi),
+//    `light` towards the light (the one `sample` draws: npf::Brdf's wo). Both point away from
+//    the surface. The NPF model is reciprocal, so only the cosine factor depends on which is which.
+//  - Values are f_r(view, light) cos(theta_light); weights are value / pdf; pdf is per solid angle
+//    of `light`.
 //  - Either direction at or below the horizon gives value 0 and pdf 0 (one-sided).
 //
 // Wavelengths: a spectral material answers any wavelengths (hero-wavelength rendering: 4 at a
@@ -49,8 +52,8 @@ struct WavelengthRequest {
 };
 
 struct ClosureSample {
-    Vec3 wi;          // towards the light
-    float pdf = 0.f;  // solid-angle density of wi
+    Vec3 light;       // the drawn direction, towards the light
+    float pdf = 0.f;  // solid-angle density of `light`
 };
 
 class NpfClosure {
@@ -78,15 +81,16 @@ public:
     // empty (they live in the TextureSystem), everything else is there.
     const NpfModel& model() const { return m_model; }
 
-    // f_r cos(theta_i) into value[value_count(request)]; returns pdf(wo, wi).
-    float eval(const Vec3& wo, const Vec3& wi, WavelengthRequest request, float* value) const;
-    float pdf(const Vec3& wo, const Vec3& wi) const;
-    // Draws wi from two uniform numbers in [0, 1); writes value / pdf into weight (when not null).
+    // f_r cos(theta_light) into value[value_count(request)]; returns pdf(view, light).
+    float eval(const Vec3& view, const Vec3& light, WavelengthRequest request, float* value) const;
+    float pdf(const Vec3& view, const Vec3& light) const;
+    // Draws `light` from two uniform numbers in [0, 1); writes value / pdf into weight (when not
+    // null).
     // false (weights 0) when the draw falls below the horizon.
-    bool sample(const Vec3& wo, float u1, float u2, WavelengthRequest request, ClosureSample& s,
+    bool sample(const Vec3& view, float u1, float u2, WavelengthRequest request, ClosureSample& s,
                 float* weight) const;
     // The direction and its pdf alone, without evaluating the BRDF.
-    bool sample_direction(const Vec3& wo, float u1, float u2, ClosureSample& s) const;
+    bool sample_direction(const Vec3& view, float u1, float u2, ClosureSample& s) const;
 
     // Probability of choosing the diffuse (cosine) strategy rather than the half-vector one.
     double diffuse_probability() const { return m_diffuse_probability; }
@@ -95,8 +99,8 @@ private:
     class TextureTables;
 
     void finish_construction();
-    // Fills `at` (model convention: wi conditioned = our wo); false below the horizon.
-    bool lookup(const Vec3& wo, const Vec3& wi, NpfModel::Lookup& at) const;
+    // Fills `at` (NpfModel takes the conditioned direction, `view`, first); false below the horizon.
+    bool lookup(const Vec3& view, const Vec3& light, NpfModel::Lookup& at) const;
     void write_values(const NpfModel::Lookup& at, double cos_light, WavelengthRequest request, float* value) const;
     float pdf_at(double theta_h, double u_h, double phi_h, double cos_d, double cos_light) const;
 
