@@ -6,7 +6,7 @@
 //        [--pairs N] [--threads N]
 #include <npf/converter/convert.h>
 #include <npf/shading/npf_texture_file.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_model.h>
 
@@ -21,7 +21,7 @@ int main(int argc, char** argv) try {
         std::fprintf(stderr, "usage: npf_bench_compression SOURCE [--preset P] [--phi-d-samples K] [--pairs N] [--threads N]\n");
         return 2;
     }
-    const auto source = npf::open_brdf(argv[1]);
+    const auto source = npf::open_material(argv[1]);
     std::string preset = "production";
     int phi_d = -1, pairs = 20000, threads = 0;
     for (int i = 2; i + 1 < argc; i += 2) {

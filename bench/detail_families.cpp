@@ -44,7 +44,7 @@
 #include <npf/converter/convert.h>
 #include <npf/converter/fit/detail_fit.h>
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
 #include <npf/render/default_environment.h>
@@ -733,7 +733,7 @@ public:
     Material(const std::string& path, const Settings& s, const npf::render::EnvironmentMap& env)
         : m_settings(s), m_env(env) {
         m_name = std::filesystem::path(path).stem().string();
-        m_source = npf::open_brdf(path);
+        m_source = npf::open_material(path);
         const std::string base_path = s.work + "/" + m_name + ".base.npf.exr";
         if (!std::filesystem::exists(base_path)) {
             npf::ConvertSettings cs = npf::preset_settings(npf::ConvertPreset::Production, m_source->info().isotropic);

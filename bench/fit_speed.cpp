@@ -9,7 +9,7 @@
 // SOURCE is a material file (RGL, MERL, ...) or a recipe (.yaml), fitted analytically.
 #include <npf/converter/fit/awls.h>
 #include <npf/converter/fit/fit_error.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/error.h>
 
 #include <chrono>
@@ -67,9 +67,7 @@ int main(int argc, char** argv) try {
     }
     const std::unique_ptr<npf::Brdf> source = npf::open_material(path);
     const npf::Channels stored = source->info().channels;
-    if (wavelengths == "rgb") o.channels = npf::Channels::rgb();
-    else if (!wavelengths.empty()) o.channels = npf::Channels::spectral(npf::parse_wavelength_list(wavelengths, "--wavelengths"));
-    else o.channels = stored;
+    o.channels = wavelengths.empty() ? stored : npf::parse_channel_list(wavelengths, "--wavelengths");
     npf::AwlsReport r;
     const auto t0 = std::chrono::steady_clock::now();
     const npf::NpfFactors f = npf::fit_npf(*source, o, &r);

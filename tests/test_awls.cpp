@@ -4,7 +4,7 @@
 #include <npf/converter/analytic/analytic_brdf.h>
 #include <npf/converter/fit/awls.h>
 #include <npf/converter/fit/fit_error.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/error.h>
 
 #include "synthetic_rgl.h"

@@ -6,7 +6,7 @@
 #include "synthetic_rgl.h"
 
 #include <npf/converter/merl_brdf.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/converter/rgl_brdf.h>
 #include <npf/converter/tensor_file.h>
 #include <npf/core/brdf.h>
@@ -88,7 +88,7 @@ TEST(BoundedReaders, ASparseRglFileCostsWhatItsFieldsHoldNotWhatItsSizeClaims) {
     extend_sparse(path, std::uint64_t(6) << 30);  // 6 GiB claimed, a few KB on disk
     const long before = peak_rss_kib();
     const auto t0 = std::chrono::steady_clock::now();
-    const auto brdf = npf::open_brdf(path);
+    const auto brdf = npf::open_material(path);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     EXPECT_EQ(brdf->info().format, "rgl");
     // Reading the whole file (as before) costs 6 GiB of memory and tens of seconds.
@@ -102,7 +102,7 @@ TEST(BoundedReaders, AFieldAboveTheCapIsRefusedBeforeAnyAllocation) {
     write_bytes(path, one_field_header({std::uint64_t(1) << 31}));  // 8 GiB of f32
     extend_sparse(path, (std::uint64_t(8) << 30) + 4096);
     const long before = peak_rss_kib();
-    const std::string e = error_of([&] { npf::open_brdf(path); });
+    const std::string e = error_of([&] { npf::open_material(path); });
     EXPECT_NE(e.find(path), std::string::npos) << e;
     EXPECT_NE(e.find("more than the 1024 MiB a field may hold"), std::string::npos) << e;
     EXPECT_LT(peak_rss_kib() - before, 64 * 1024);
@@ -112,7 +112,7 @@ TEST(BoundedReaders, AbsurdRankGivesAShortErrorLine) {
     const std::string dir = npf::testing::temporary_folder("bounded-rank");
     const std::string path = dir + "/rank.bsdf";
     write_bytes(path, one_field_header(std::vector<std::uint64_t>(65535, 1)));
-    const std::string e = error_of([&] { npf::open_brdf(path); });
+    const std::string e = error_of([&] { npf::open_material(path); });
     EXPECT_NE(e.find("65535 dimensions"), std::string::npos) << e.substr(0, 300);
     EXPECT_LT(e.size(), 300u) << "a " << e.size() << "-byte error line";
     // A shape string names at most eight extents.
@@ -132,7 +132,7 @@ TEST(BoundedReaders, FiniteButAbsurdValuesAreRefused) {
     const std::string dir = npf::testing::temporary_folder("bounded-values");
     const std::string path = dir + "/huge.bsdf";
     npf::testing::to_writer(fields).write(path);
-    const std::string e = error_of([&] { npf::open_brdf(path); });
+    const std::string e = error_of([&] { npf::open_material(path); });
     EXPECT_NE(e.find("field 'rgb' holds an out-of-range value (3e+38) at index 17"), std::string::npos) << e;
     // And through the tool: one line, exit 1, never a 'null' albedo with exit 0.
     const ToolRun r = npf::testing::run_tool({"albedo", path, "--json"});
@@ -155,8 +155,8 @@ TEST(BoundedReaders, MerlFilesOfTheWrongSizeSayWhatIsWrong) {
     std::vector<std::uint8_t> more = bytes;
     more.push_back(0);
     write_bytes(padded, more);
-    EXPECT_NE(error_of([&] { npf::open_brdf(cut); }).find("truncated"), std::string::npos) << error_of([&] { npf::open_brdf(cut); });
-    EXPECT_NE(error_of([&] { npf::open_brdf(padded); }).find("trailing data"), std::string::npos);
+    EXPECT_NE(error_of([&] { npf::open_material(cut); }).find("truncated"), std::string::npos) << error_of([&] { npf::open_material(cut); });
+    EXPECT_NE(error_of([&] { npf::open_material(padded); }).find("trailing data"), std::string::npos);
     // Any plausible header, not only MERL's standard one: a 2 x 3 x 4 table with a byte too many.
     const std::string small = dir + "/small.binary", small_padded = dir + "/small.dat";
     npf::write_merl(small, 2, 3, 4, [](int, int, int, double rgb[3]) { rgb[0] = rgb[1] = rgb[2] = 0.1; });
@@ -166,8 +166,8 @@ TEST(BoundedReaders, MerlFilesOfTheWrongSizeSayWhatIsWrong) {
         b.push_back(0);
         write_bytes(small_padded, b);
     }
-    EXPECT_NE(error_of([&] { npf::open_brdf(small_padded); }).find("trailing data"), std::string::npos)
-        << error_of([&] { npf::open_brdf(small_padded); });
+    EXPECT_NE(error_of([&] { npf::open_material(small_padded); }).find("trailing data"), std::string::npos)
+        << error_of([&] { npf::open_material(small_padded); });
     // A .binary whose header claims a table above the cap, in a sparse file of exactly that size.
     const std::string huge = dir + "/huge.binary";
     std::vector<std::uint8_t> header;
@@ -177,7 +177,7 @@ TEST(BoundedReaders, MerlFilesOfTheWrongSizeSayWhatIsWrong) {
     write_bytes(huge, header);
     extend_sparse(huge, 12 + std::uint64_t(1000) * 1000 * 1000 * 24);
     const long before = peak_rss_kib();
-    const std::string e = error_of([&] { npf::open_brdf(huge); });
+    const std::string e = error_of([&] { npf::open_material(huge); });
     EXPECT_NE(e.find("more than the 1024 MiB a MERL file may hold"), std::string::npos) << e;
     EXPECT_LT(peak_rss_kib() - before, 64 * 1024);
 }
@@ -201,7 +201,7 @@ TEST(BoundedReaders, FactorTextureTablesAboveTheFormatCapsAreRefused) {
     std::vector<float> zeros(16, 0.f);
     ASSERT_TRUE(out->write_image(OIIO::TypeFloat, zeros.data()));
     ASSERT_TRUE(out->close());
-    const std::string e = error_of([&] { npf::open_brdf(path); });
+    const std::string e = error_of([&] { npf::open_material(path); });
     EXPECT_NE(e.find("the D table has 67108864 cells, more than the format's 1048576"), std::string::npos) << e;
 }
 
@@ -227,7 +227,7 @@ TEST(BoundedReaders, OpenExrAttributesMustHaveTheirTypesSize) {
     at[16] = 1;
     const std::string bad = dir + "/bad.exr";
     write_bytes(bad, bytes);
-    const std::string e = error_of([&] { npf::open_brdf(bad); });
+    const std::string e = error_of([&] { npf::open_material(bad); });
     EXPECT_NE(e.find("attribute 'chunkCount' of type int has 260 bytes, not 4"), std::string::npos) << e;
     // The walk over bytes in memory (the fuzz target's) says what the walk over the file says.
     const std::uint64_t cap = std::uint64_t(1) << 23;
@@ -243,7 +243,7 @@ TEST(BoundedReaders, OpenExrAttributesMustHaveTheirTypesSize) {
     // The committed fuzzing input itself.
     for (const auto& entry : fs::directory_iterator(std::string(NPF_SOURCE_DIR) + "/fuzz/corpus/npf_exr")) {
         if (entry.path().filename().string().rfind("oom-", 0) != 0) continue;
-        const std::string problem = error_of([&] { npf::open_brdf(entry.path().string()); });
+        const std::string problem = error_of([&] { npf::open_material(entry.path().string()); });
         EXPECT_NE(problem.find("OpenEXR"), std::string::npos) << entry.path() << ": " << problem;
     }
 }

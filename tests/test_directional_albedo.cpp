@@ -9,7 +9,7 @@
 
 #include <npf/converter/analytic/analytic_brdf.h>
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_brdf.h>
@@ -257,7 +257,7 @@ TEST(DirectionalAlbedo, BitIdenticalRunsAndThreadCounts) {
     npf::testing::SyntheticRglSpec spec;
     spec.phi_count = 6;  // anisotropic
     const std::string dir = npf::testing::temporary_folder("albedo");
-    const std::unique_ptr<Brdf> rgl = npf::open_brdf(npf::testing::write_synthetic_rgl(spec, dir + "/aniso.bsdf"));
+    const std::unique_ptr<Brdf> rgl = npf::open_material(npf::testing::write_synthetic_rgl(spec, dir + "/aniso.bsdf"));
     const AnalyticBrdf analytic(white_ggx(0.02f, 0.2f, 0.4f));
     for (const Brdf* b : {static_cast<const Brdf*>(rgl.get()), static_cast<const Brdf*>(&analytic)}) {
         const ChannelQuery q = b == rgl.get() ? b->native_query() : at_550(*b);

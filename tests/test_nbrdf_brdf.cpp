@@ -4,7 +4,7 @@
 // and Rodrigues rotations in double), or by hand for a network built to expose the direction
 // convention. The real networks are checked against the RGL files they were trained from.
 #include <npf/converter/nbrdf_brdf.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/error.h>
 
 #include <error_of.h>
@@ -313,9 +313,9 @@ void expect_rejected(const std::string& path, const std::string& words) {
     EXPECT_EQ(message.rfind(path, 0), 0u) << message;
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     EXPECT_NE(message.find(words), std::string::npos) << "expected '" << words << "' in: " << message;
-    // open_brdf reaches the same reader for a name ending in .h5 whatever the contents.
+    // open_material reaches the same reader for a name ending in .h5 whatever the contents.
     if (path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0) {
-        const std::string via_open = error_of([&] { npf::open_brdf(path); });
+        const std::string via_open = error_of([&] { npf::open_material(path); });
         EXPECT_EQ(via_open, message);
     }
 }
@@ -493,8 +493,8 @@ TEST(NbrdfSharedData, AgreesWithTheRglFiles) {
         const std::string rgl_path = npf::testing::shared_data_file(std::string("rgl/") + e.material + ".bsdf");
         if (net_path.empty() || rgl_path.empty()) continue;
         SCOPED_TRACE(e.material);
-        const auto net = npf::open_brdf(net_path);
-        const auto rgl = npf::open_brdf(rgl_path);
+        const auto net = npf::open_material(net_path);
+        const auto rgl = npf::open_material(rgl_path);
         EXPECT_EQ(net->info().format, "nbrdf");
         const Agreement ours = agreement(*net, *rgl, false);
         const Agreement flipped = agreement(*net, *rgl, true);

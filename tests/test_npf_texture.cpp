@@ -1,4 +1,4 @@
-// NPF factor textures (docs/format.md): written and read back bit for bit, opened by open_brdf
+// NPF factor textures (docs/format.md): written and read back bit for bit, opened by open_material
 // and the `npf` tool as a material, and every damaged or foreign file rejected with an
 // npf::Error naming it.
 #include "npf_test_factors.h"
@@ -6,7 +6,7 @@
 #include "synthetic_rgl.h"
 
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_brdf.h>
 #include <npf/shading/npf_texture_file.h>
@@ -357,7 +357,7 @@ TEST(NpfTexture, OpensAsAMaterial) {
     const NpfModel m = make_model({true, 20, true, 4}, 6, 3);
     const std::string path = file("material.exr");
     npf::write_npf_texture(m, path);
-    const std::unique_ptr<npf::Brdf> brdf = npf::open_brdf(path);
+    const std::unique_ptr<npf::Brdf> brdf = npf::open_material(path);
     const npf::BrdfInfo& info = brdf->info();
     EXPECT_EQ(info.format, "npf-exr");
     EXPECT_EQ(info.path, path);
@@ -437,7 +437,7 @@ TEST(NpfTexture, SamplingIsConsistentWithPdf) {
 void expect_rejected(const std::string& path, const std::string& part) {
     SCOPED_TRACE(path);
     expect_error([&] { npf::read_npf_texture(path); }, path, part);
-    expect_error([&] { npf::open_brdf(path); }, path, part);
+    expect_error([&] { npf::open_material(path); }, path, part);
 }
 
 TEST(NpfTextureBadInput, MissingEmptyAndForeignFiles) {
@@ -483,7 +483,7 @@ TEST(NpfTextureBadInput, TruncatedFiles) {
         } catch (const npf::Error& e) {
             EXPECT_EQ(e.source(), cut) << e.what();
         }
-        EXPECT_THROW(npf::open_brdf(cut), npf::Error);
+        EXPECT_THROW(npf::open_material(cut), npf::Error);
     }
 }
 

@@ -1,11 +1,11 @@
 // The RGL reader against malformed, truncated and hostile files: every such file must be
-// rejected by both RglBrdf::load and open_brdf with an npf::Error naming the file and the
+// rejected by both RglBrdf::load and open_material with an npf::Error naming the file and the
 // problem, never a crash or an out-of-bounds read. Valid synthetic files of every kind load
 // and describe themselves correctly; a fuzz-lite pass corrupts a small valid file at random.
 
 #include "synthetic_rgl.h"
 
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/converter/rgl_brdf.h>
 #include <npf/converter/tensor_file.h>
 #include <npf/core/error.h>
@@ -164,15 +164,15 @@ std::string error_of(const std::function<void()>& load) {
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // Both loaders reject `path` with a message naming it and containing `phrase`
-// (`open_phrase` for open_brdf, when its format sniffing answers first).
+// (`open_phrase` for open_material, when its format sniffing answers first).
 void expect_rejected(const std::string& path, const std::string& phrase, const std::string& open_phrase = "") {
     const std::string a = error_of([&] { RglBrdf::load(path); });
     EXPECT_TRUE(contains(a, path)) << "RglBrdf::load message does not name the file: " << a;
     EXPECT_TRUE(contains(a, phrase)) << "RglBrdf::load message lacks '" << phrase << "': " << a;
-    const std::string b = error_of([&] { npf::open_brdf(path); });
+    const std::string b = error_of([&] { npf::open_material(path); });
     const std::string& want = open_phrase.empty() ? phrase : open_phrase;
-    EXPECT_TRUE(contains(b, path)) << "open_brdf message does not name the file: " << b;
-    EXPECT_TRUE(contains(b, want)) << "open_brdf message lacks '" << want << "': " << b;
+    EXPECT_TRUE(contains(b, path)) << "open_material message does not name the file: " << b;
+    EXPECT_TRUE(contains(b, want)) << "open_material message lacks '" << want << "': " << b;
 }
 
 void expect_rejected_bytes(const std::string& name, const Bytes& bytes, const std::string& phrase,
@@ -805,7 +805,7 @@ TEST(RglBadInputValidFiles, EveryKindLoadsAndDescribesItself) {
         std::unique_ptr<RglBrdf> rgl;
         ASSERT_NO_THROW(rgl = RglBrdf::load(path));
         std::unique_ptr<npf::Brdf> any;
-        ASSERT_NO_THROW(any = npf::open_brdf(path));
+        ASSERT_NO_THROW(any = npf::open_material(path));
         EXPECT_EQ(rgl->reduction(), isotropic ? 1 : k.reduction);
         EXPECT_EQ(rgl->jacobian(), k.jacobian);
         EXPECT_EQ(rgl->phi_i().size(), std::size_t(k.phi_count));
@@ -892,7 +892,7 @@ TEST(RglBadInputValidFiles, OptionalFieldsAndUnknownFields) {
     }
     EXPECT_TRUE(saw_valid);
     EXPECT_TRUE(saw_jacobian);
-    EXPECT_NO_THROW(npf::open_brdf(path));
+    EXPECT_NO_THROW(npf::open_material(path));
 }
 
 // ---- Fuzz-lite ----------------------------------------------------------------------------
@@ -984,11 +984,11 @@ TEST(RglBadInputFuzz, RandomTruncationsNeverCrash) {
             EXPECT_THROW(RglBrdf::from_tensor_file(npf::TensorFile::parse(b, source)), npf::Error) << "length " << n;
         }
     }
-    // A few through the file system and open_brdf as well.
+    // A few through the file system and open_material as well.
     for (int i = 0; i < 10; ++i) {
         const std::size_t n = std::size_t(rng() % base.size());
         const std::string path = write_bytes("trunc_" + std::to_string(n) + ".bsdf", Bytes(base.begin(), base.begin() + long(n)));
-        EXPECT_THROW(npf::open_brdf(path), npf::Error);
+        EXPECT_THROW(npf::open_material(path), npf::Error);
     }
 }
 

@@ -88,12 +88,10 @@ void check_value(const std::string& origin, const std::string& key, const std::s
     const std::string& k = setting;
     if (k == "preset") one_of(origin, key, v, {"preview", "production", "fine", "paper"});
     else if (k == "wavelengths") {
-        if (v != "rgb") {
-            try {
-                parse_wavelength_list(v, "wavelengths");
-            } catch (const Error& e) {
-                bad(origin, key, e.what());
-            }
+        try {
+            parse_channel_list(v, key);
+        } catch (const Error& e) {
+            bad(origin, key, e.problem());
         }
     } else if (k == "max_wavelengths") whole(origin, key, v, 0, 100000);
     else if (k == "isotropy") one_of(origin, key, v, {"auto", "isotropic", "anisotropic"});

@@ -5,8 +5,9 @@
 #include <npf/batch/content_hash.h>
 #include <npf/core/atomic_file.h>
 #include <npf/converter/convert.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/error.h>
+#include <npf/core/text.h>
 #include <npf/edit/recipe.h>
 #include <npf/render/default_environment.h>
 #include <npf/render/environment_map.h>
@@ -167,7 +168,7 @@ void fill_from_header(MaterialResult& r, const std::map<std::string, std::string
         std::snprintf(key, sizeof key, "edit_%03d", k);
         const auto it = h.find(m + key);
         if (it == h.end()) break;
-        r.edits.push_back(it->second.substr(0, it->second.find('\n')));
+        r.edits.push_back(first_line(it->second));
     }
 }
 
@@ -435,7 +436,7 @@ MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
             ro.seed = check.seed;
             ro.threads = check.threads;
             ro.sampling = render::Sampling::Environment;
-            const std::unique_ptr<Brdf> fitted = open_brdf(output);
+            const std::unique_ptr<Brdf> fitted = open_material(output);
             const render::RenderResult reference = render::render(*source, it->second, ro);
             const render::RenderResult test = render::render(*fitted, it->second, ro);
             render::RenderOptions ro2 = ro;

@@ -38,10 +38,7 @@ std::string text(double v) {
 
 Channels choose_channels(const Brdf& source, const ConvertSettings& s) {
     const Channels stored = source.info().channels;
-    if (!s.wavelengths.empty()) {
-        if (s.wavelengths == "rgb") return Channels::rgb();
-        return Channels::spectral(parse_wavelength_list(s.wavelengths, "wavelengths"));
-    }
+    if (!s.wavelengths.empty()) return parse_channel_list(s.wavelengths, "wavelengths");
     if (stored.is_rgb() || s.max_wavelengths <= 0 || stored.size() <= std::size_t(s.max_wavelengths)) return stored;
     // Evenly spread over the stored list, both ends kept.
     const std::vector<float>& all = stored.wavelengths();

@@ -166,10 +166,8 @@ SpecularLobe parse_lobe(const Context& cx, const YAML::Node& node, const std::st
 
 Channels parse_channels(const Context& cx, const YAML::Node& node) {
     if (node.IsScalar()) {
-        const std::string t = node.Scalar();
-        if (t == "rgb") return Channels::rgb();
         try {
-            return Channels::spectral(parse_wavelength_list(t, cx.source));
+            return parse_channel_list(node.Scalar(), "wavelengths");
         } catch (const Error& e) {
             cx.fail(node, "wavelengths", e.problem());
         }

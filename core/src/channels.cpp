@@ -165,4 +165,13 @@ std::vector<float> parse_wavelength_list(const std::string& text, const std::str
     return out;
 }
 
+Channels parse_channel_list(const std::string& text, const std::string& what) {
+    if (text == "rgb") return Channels::rgb();
+    try {
+        return Channels::spectral(parse_wavelength_list(text, what));
+    } catch (const Error& e) {
+        throw Error(what, e.problem() + " (a channel list is rgb, a,b,c or start:end:count, in nm)");
+    }
+}
+
 }  // namespace npf

@@ -1,5 +1,5 @@
 // Opens a material through an installed npf and prints f_r cos at normal incidence.
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/error.h>
 
 #include <cstdio>
@@ -10,7 +10,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        auto brdf = npf::open_brdf(argv[1]);
+        auto brdf = npf::open_material(argv[1]);
         npf::ChannelQuery q = brdf->native_query();
         std::vector<float> value(q.size());
         brdf->eval_cos({0.f, 0.f, 1.f}, {0.f, 0.f, 1.f}, q, value.data());

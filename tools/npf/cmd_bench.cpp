@@ -5,7 +5,7 @@
 #include "command_line.h"
 #include "commands.h"
 
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/error.h>
 #include <npf/core/json_text.h>
 #include <npf/core/input_file.h>
@@ -51,6 +51,7 @@ const char* kHelp =
 
 constexpr int kPairs = 4096;    // direction pairs, cycled
 constexpr int kHeroSets = 64;   // wavelength quadruples, cycled
+constexpr int kJsonDigits = 4;  // timings vary by more than that from run to run
 
 struct Inputs {
     std::vector<Vec3> wo, wi;
@@ -109,12 +110,6 @@ Timing time_calls(double seconds, const std::function<double()>& batch) {
     return t;
 }
 
-std::string json_number(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.4g", v);
-    return buf;
-}
-
 }  // namespace
 
 int run_bench(const std::vector<std::string>& args) {
@@ -153,7 +148,7 @@ int run_bench(const std::vector<std::string>& args) {
     const Inputs in = make_inputs(channels);
     if (cl.has("--against")) {
         const std::string raw_path = cl.value("--against");
-        raw = open_brdf(raw_path);
+        raw = open_material(raw_path);
         if (raw->info().channels.is_rgb() != channels.is_rgb()) {
             throw Error(raw_path, std::string("holds ") + (raw->info().channels.is_rgb() ? "RGB" : "spectral") +
                                       " data, the NPF texture " + (channels.is_rgb() ? "RGB" : "spectral") +
@@ -267,11 +262,11 @@ int run_bench(const std::vector<std::string>& args) {
         std::string out = "{\"material\": " + json_string(path) + ", \"channels\": " + std::to_string(m.channel_count()) +
                           ", \"rgb\": " + (channels.is_rgb() ? "true" : "false") + ", \"d_rank\": " +
                           std::to_string(m.D.rank) + ", \"g_rank\": " + std::to_string(m.G.rank);
-        for (const Row& r : rows) out += std::string(", \"") + r.key + "\": " + json_number(r.t.ns_per_call);
+        for (const Row& r : rows) out += std::string(", \"") + r.key + "\": " + json_number(r.t.ns_per_call, kJsonDigits);
         if (!raw) out += ", \"eval_raw_ns\": null";
-        out += ", \"speedup_memory_vs_raw\": " + (raw ? json_number(speedup) : std::string("null"));
+        out += ", \"speedup_memory_vs_raw\": " + (raw ? json_number(speedup, kJsonDigits) : std::string("null"));
         out += ", \"threads\": " + std::to_string(threads) + ", \"eval_memory_calls_per_s_threaded\": " +
-               json_number(throughput) + "}\n";
+               json_number(throughput, kJsonDigits) + "}\n";
         std::fputs(out.c_str(), stdout);
         return 0;
     }

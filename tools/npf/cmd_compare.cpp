@@ -68,8 +68,10 @@ std::string format_number(double v) {
     return buf;
 }
 
-// JSON has no infinity: an infinite PSNR is the string "inf" (float("inf") in Python).
-std::string json_number(double v) { return std::isfinite(v) ? format_number(v) : json_string(format_number(v)); }
+// A metric in the JSON report. Not npf::json_number: identical images have an infinite PSNR, a
+// result that null ("no value") would hide, so it is the string "inf" (float("inf") in Python;
+// docs/metrics.md); and SSIM keeps the digits that tell it from 1.
+std::string metric_json(double v) { return std::isfinite(v) ? format_number(v) : json_string(format_number(v)); }
 
 double parse_heatmap_max(const std::string& text) {
     char* end = nullptr;
@@ -169,18 +171,18 @@ int run_compare(const std::vector<std::string>& args) {
         std::printf("{\"reference\": %s, \"test\": %s, \"PSNR\": %s, \"SSIM\": %s, \"relMSE\": %s, \"MAPE\": %s, "
                     "\"pixels\": %zu, \"pixels_total\": %zu, \"ssim_pixels\": %zu, \"coverage\": \"%s\", "
                     "\"mse_display\": %s",
-                    json_string(reference_path).c_str(), json_string(test_path).c_str(), json_number(m.psnr).c_str(),
-                    json_number(m.ssim).c_str(), json_number(m.relmse).c_str(), json_number(m.mape).c_str(), m.pixels,
+                    json_string(reference_path).c_str(), json_string(test_path).c_str(), metric_json(m.psnr).c_str(),
+                    metric_json(m.ssim).c_str(), metric_json(m.relmse).c_str(), metric_json(m.mape).c_str(), m.pixels,
                     m.pixels_total, m.ssim_pixels, options.coverage == render::Coverage::Alpha ? "alpha" : "all",
-                    json_number(m.mse_display).c_str());
+                    metric_json(m.mse_display).c_str());
         if (cl.has("--heatmap"))
             std::printf(", \"heatmap\": %s, \"heatmap_max\": %s", json_string(cl.value("--heatmap")).c_str(),
-                        json_number(heatmap_max).c_str());
+                        metric_json(heatmap_max).c_str());
         if (floor) {
             std::printf(", \"noise_floor_db\": %s, \"noise_floor_kind\": \"%s\", \"mse_display_noise\": %s, "
                         "\"noise_limited\": %s, \"floor_reference\": %s",
-                        json_number(floor->psnr).c_str(), render::noise_floor_kind_name(floor->kind),
-                        json_number(floor->mse_noise).c_str(), render::noise_limited(m, *floor) ? "true" : "false",
+                        metric_json(floor->psnr).c_str(), render::noise_floor_kind_name(floor->kind),
+                        metric_json(floor->mse_noise).c_str(), render::noise_limited(m, *floor) ? "true" : "false",
                         json_string(floor_args.images[0]).c_str());
             if (floor_args.images.size() == 2)
                 std::printf(", \"floor_test\": %s", json_string(floor_args.images[1]).c_str());

@@ -4,7 +4,7 @@
 #include "progress.h"
 
 #include <npf/converter/convert.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 
@@ -92,9 +92,9 @@ int run_convert(const std::vector<std::string>& args) {
     CommandLine cl("convert", args, kFlags);
     if (cl.has("--help") || cl.positional().size() != 1 || !cl.has("-o")) {
         std::printf("usage: npf convert IN -o OUT.exr [--preset preview|production|fine|paper] [settings]\n\n"
-                    "Fits the NPF factors (paper Eq. 1) to a material: an RGL .bsdf or MERL .binary file, or an\n"
-                    "analytic recipe (.yaml, configs/materials/); compresses D and G across wavelengths; writes\n"
-                    "the factor texture. Settings override the preset. Example:\n"
+                    "Fits the NPF factors (paper Eq. 1) to a material: an RGL .bsdf, MERL .binary, NPF texture .exr\n"
+                    "or Neural BRDF .h5 file, or an analytic recipe (.yaml, configs/materials/); compresses D and G\n"
+                    "across wavelengths; writes the factor texture. Settings override the preset. Example:\n"
                     "  npf convert satin.bsdf -o satin.exr --preset production --wavelengths 380:780:81\n\n%s",
                     usage_lines(kFlags).c_str());
         return cl.has("--help") ? 0 : 2;
@@ -114,7 +114,10 @@ int run_convert(const std::vector<std::string>& args) {
     ConvertSettings s = preset_settings(preset, isotropic);
     s.isotropy = isotropy;
     AwlsOptions& o = s.fit;
-    if (cl.has("--wavelengths")) s.wavelengths = cl.value("--wavelengths");
+    if (cl.has("--wavelengths")) {
+        s.wavelengths = cl.value("--wavelengths");
+        parse_channel_list(s.wavelengths, "--wavelengths");  // a bad list names the flag (the fit parses it again)
+    }
     if (cl.has("--max-wavelengths")) s.max_wavelengths = int(whole("--max-wavelengths", cl.value("--max-wavelengths"), 0, 100000));
     if (cl.has("--grid")) {
         const auto p = parts("--grid", cl.value("--grid"), 4);

@@ -14,6 +14,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <set>
 #include <string>
@@ -92,6 +94,20 @@ std::string fmt(double v) {
     char b[32];
     std::snprintf(b, sizeof b, "%g", v);
     return b;
+}
+
+// Edits work on fitted materials only: any other material (a measurement, a recipe), which
+// `npf convert` takes, is refused by name before any work. A file that is missing, not regular,
+// too short or an OpenEXR file is left to the NPF reader, whose messages say more.
+void require_npf_texture(const std::string& path, const std::string& origin) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return;
+    std::ifstream in(path, std::ios::binary);
+    unsigned char head[4] = {};
+    if (!in.read(reinterpret_cast<char*>(head), sizeof head) || has_exr_magic(head, sizeof head)) return;
+    const Error e(path, "not an NPF factor texture; npf edit works on fitted materials (convert it first: npf convert)");
+    if (origin.empty()) throw e;
+    throw Error(origin, e.what());  // as apply_edits names a step's errors
 }
 
 // The step flags in command-line order, with their values (CommandLine keeps only the last).
@@ -257,6 +273,11 @@ int run_edit(const std::vector<std::string>& args) {
         throw Error("edit", "no edits given (flags or --recipe; configs/edits/identity.yaml is the identity)");
     }
 
+    require_npf_texture(input, "");
+    for (const edit::EditStep& s : steps) {
+        if (s.kind == edit::EditStep::Kind::DiffuseMaterial || s.kind == edit::EditStep::Kind::SpecularMaterial)
+            require_npf_texture(s.path, s.origin);
+    }
     if (!dry) check_output_path(output);  // a destination that cannot be written fails now, not after the edits
     const NpfModel model = read_npf_texture(input);
     std::printf("%s: %s, %zu %s, D %d x %d, G %d x %d; %zu step%s\n", input.c_str(), model.isotropic() ? "isotropic" : "anisotropic",

@@ -3,7 +3,7 @@
 #include "command_line.h"
 #include "commands.h"
 
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
 #include <npf/shading/npf_brdf.h>
@@ -35,6 +35,7 @@ const std::vector<FlagSpec> kFlags = {
 
 const char* kHelp =
     "usage: npf eval FILE [--dirs PATH|-] [--cos] [--wavelengths LIST] [--raw] [--pdf] [--path memory|texture]\n\n"
+    "FILE is any material: RGL .bsdf, MERL .binary, NPF texture .exr, Neural BRDF .h5 or analytic recipe .yaml.\n"
     "Directions are in the local frame (z the normal, x the tangent), both pointing away from the\n"
     "surface, and are normalised on reading; lines starting with '#' and blank lines are skipped.\n"
     "Output: a header '# ' with the channel names (R G B) or wavelengths (nm), then one line per\n"
@@ -85,7 +86,7 @@ int run_eval(const std::vector<std::string>& args) {
         brdf = std::make_unique<NpfBrdf>(path, texture ? NpfClosure::Path::Texture : NpfClosure::Path::Memory);
         path_line = texture ? "# path texture (OpenImageIO TextureSystem)\n" : "# path memory\n";
     } else {
-        brdf = open_brdf(path);
+        brdf = open_material(path);
     }
 
     Channels channels = brdf->info().channels;

@@ -2,7 +2,8 @@
 #include "command_line.h"
 #include "commands.h"
 
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
+#include <npf/core/input_file.h>
 
 #include <cstdio>
 #include <string>
@@ -32,6 +33,7 @@ std::string format_name(const std::string& f) {
     if (f == "rgl") return "RGL measured BRDF (tensor_file 1.0, .bsdf)";
     if (f == "merl") return "MERL measured BRDF (.binary)";
     if (f == "npf-exr") return "NPF factor texture (OpenEXR, .exr; docs/format.md)";
+    if (f == "analytic") return "analytic material recipe (YAML, .yaml; docs/synth.md)";
     return f;
 }
 
@@ -50,21 +52,23 @@ int run_info(const std::vector<std::string>& args) {
     CommandLine cl("info", args, kFlags);
     if (cl.has("--help") || cl.positional().empty()) {
         std::printf("usage: npf info FILE...\n\nPrints format, isotropy, channels (wavelength range and "
-                    "count), grid sizes, description and size of each material file.\n\n%s",
+                    "count), grid sizes, description and size of each material: RGL .bsdf, MERL .binary, NPF "
+                    "texture .exr, Neural BRDF .h5 or analytic recipe .yaml.\n\n%s",
                     usage_lines(kFlags).c_str());
         return cl.has("--help") ? 0 : 2;
     }
     bool first = true;
     for (const std::string& path : cl.positional()) {
-        std::unique_ptr<Brdf> brdf = open_brdf(path);
+        std::unique_ptr<Brdf> brdf = open_material(path);
         const BrdfInfo& i = brdf->info();
+        // A recipe holds no data (file_bytes 0): its size is that of the text.
+        const std::uint64_t bytes = i.format == "analytic" ? require_regular_file(path) : i.file_bytes;
         if (!first) std::printf("\n");
         first = false;
         std::printf("file: %s\n", path.c_str());
         std::printf("format: %s\n", format_name(i.format).c_str());
         std::printf("description: %s\n", i.description.empty() ? "(none)" : i.description.c_str());
-        std::printf("size: %llu bytes (%s)\n", static_cast<unsigned long long>(i.file_bytes),
-                    human_bytes(i.file_bytes).c_str());
+        std::printf("size: %llu bytes (%s)\n", static_cast<unsigned long long>(bytes), human_bytes(bytes).c_str());
         std::printf("isotropic: %s\n", i.isotropic ? "yes" : "no");
         std::printf("channels: %s\n", channel_summary(i.channels).c_str());
         if (!i.channels.is_rgb()) std::printf("wavelengths (nm): %s\n", i.channels.describe().c_str());

@@ -6,7 +6,7 @@
 
 #include <npf/color/display.h>
 #include <npf/color/display_image.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
@@ -111,10 +111,7 @@ int run_render(const std::vector<std::string>& args) {
     if (cl.has("--threads")) options.threads = unsigned(whole("--threads", cl.value("--threads"), 1, 1024));
     if (cl.has("--scene") && cl.value("--scene") != "sphere")
         throw Error("--scene", "'" + cl.value("--scene") + "' is not a known scene (sphere)");
-    if (cl.has("--wavelengths")) {
-        const std::string v = cl.value("--wavelengths");
-        options.channels = v == "rgb" ? Channels::rgb() : Channels::spectral(parse_wavelength_list(v, "--wavelengths"));
-    }
+    if (cl.has("--wavelengths")) options.channels = parse_channel_list(cl.value("--wavelengths"), "--wavelengths");
     if (cl.has("--sampling")) {
         const std::string v = cl.value("--sampling");
         if (v == "mis") options.sampling = render::Sampling::Mis;

@@ -6,7 +6,7 @@
 
 #include <npf/converter/data_files.h>
 #include <npf/converter/material_recipe.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/converter/rgl_writer.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
@@ -154,10 +154,7 @@ int run_synth(const std::vector<std::string>& args) {
     }
     if (cl.has("--diffuse")) recipe.material.diffuse = spectrum_from_text(cl.value("--diffuse"), "--diffuse");
     if (cl.has("--name")) recipe.material.name = recipe.writer.description = cl.value("--name");
-    if (cl.has("--wavelengths")) {
-        const std::string w = cl.value("--wavelengths");
-        recipe.writer.channels = w == "rgb" ? Channels::rgb() : Channels::spectral(parse_wavelength_list(w, "--wavelengths"));
-    }
+    if (cl.has("--wavelengths")) recipe.writer.channels = parse_channel_list(cl.value("--wavelengths"), "--wavelengths");
     if (!recipe.writer.channels.is_rgb() && recipe.writer.channels.wavelengths().empty()) {
         recipe.writer.channels = Channels::spectral(parse_wavelength_list(kDefaultWavelengths, "default wavelengths"));
     }

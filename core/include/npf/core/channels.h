@@ -83,4 +83,10 @@ ChannelQuery make_channel_query(const Channels& stored, const Channels& requeste
 // (count evenly spaced values, both ends included). Throws npf::Error naming `what`.
 std::vector<float> parse_wavelength_list(const std::string& text, const std::string& what);
 
+// Parses a channel list as a flag or setting gives it: "rgb", or a wavelength list as
+// parse_wavelength_list reads it. The one parser of every --wavelengths flag and wavelengths
+// key that takes either, so that all accept the same forms and fail alike: npf::Error naming
+// `what` (the flag or key), the problem, then the forms a channel list takes.
+Channels parse_channel_list(const std::string& text, const std::string& what);
+
 }  // namespace npf

@@ -2,7 +2,7 @@
 #include <npf/converter/material_recipe.h>
 #include <npf/converter/merl_brdf.h>
 #include <npf/converter/nbrdf_brdf.h>
-#include <npf/converter/open_brdf.h>
+#include <npf/converter/open_material.h>
 #include <npf/converter/rgl_brdf.h>
 #include <npf/converter/tensor_file.h>
 #include <npf/core/error.h>
@@ -24,9 +24,8 @@ bool ends_with(const std::string& text, const char* tail) {
     return text.size() >= n && text.compare(text.size() - n, n, tail) == 0;
 }
 
-}  // namespace
-
-std::unique_ptr<Brdf> open_brdf(const std::string& path) {
+// A file that is not a recipe, by its contents.
+std::unique_ptr<Brdf> open_material_file(const std::string& path) {
     const std::uint64_t size = require_regular_file(path);
     if (size == 0) throw Error(path, "empty file");
     std::ifstream in(path, std::ios::binary);
@@ -50,9 +49,11 @@ std::unique_ptr<Brdf> open_brdf(const std::string& path) {
                       "texture .exr or a Neural BRDF .h5)");
 }
 
+}  // namespace
+
 std::unique_ptr<Brdf> open_material(const std::string& path) {
     if (ends_with(path, ".yaml") || ends_with(path, ".yml")) return std::make_unique<AnalyticBrdf>(load_material_recipe(path).material);
-    return open_brdf(path);
+    return open_material_file(path);
 }
 
 }  // namespace npf
