@@ -5,6 +5,7 @@
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
 
+#include <npf/converter/convert_settings_table.h>
 #include <npf/converter/yaml_context.h>
 
 #include <yaml-cpp/yaml.h>
@@ -18,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <glob.h>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -43,94 +45,26 @@ long whole(const std::string& origin, const std::string& key, const std::string&
     return n;
 }
 
-double number(const std::string& origin, const std::string& key, const std::string& v) {
-    char* end = nullptr;
-    const double d = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || !std::isfinite(d)) bad(origin, key, "'" + v + "' is not a number");
-    return d;
-}
-
-std::vector<std::string> split(const std::string& v, char sep) {
-    std::vector<std::string> out;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t at = v.find(sep, start);
-        out.push_back(v.substr(start, at == std::string::npos ? std::string::npos : at - start));
-        if (at == std::string::npos) return out;
-        start = at + 1;
-    }
-}
-
-std::vector<std::string> parts(const std::string& origin, const std::string& key, const std::string& v, std::size_t n) {
-    std::vector<std::string> p = split(v, ',');
-    if (p.size() != n) bad(origin, key, "expects " + std::to_string(n) + " values, got '" + v + "'");
-    return p;
-}
-
 bool boolean(const std::string& origin, const std::string& key, const std::string& v) {
     if (v == "true") return true;
     if (v == "false") return false;
     bad(origin, key, "expects true or false, got '" + v + "'");
 }
 
-void one_of(const std::string& origin, const std::string& key, const std::string& v, std::initializer_list<const char*> allowed) {
-    std::string list;
-    for (const char* a : allowed) {
-        if (v == a) return;
-        list += std::string(list.empty() ? "" : ", ") + a;
-    }
-    bad(origin, key, "'" + v + "' is not one of " + list);
-}
-
 // Checks a value of setting `setting` as resolve_convert_settings and resolve_render_check will
 // read it; errors call it `key` (the name as written: "defaults.preset").
 void check_value(const std::string& origin, const std::string& key, const std::string& setting, const std::string& v) {
     const std::string& k = setting;
-    if (k == "preset") one_of(origin, key, v, {"preview", "production", "fine", "paper"});
-    else if (k == "wavelengths") {
+    if (const ConvertSettingRow* row = find_setting(convert_settings_table(), k)) {
         try {
-            parse_channel_list(v, key);
+            check_setting(*row, v, key);
         } catch (const Error& e) {
             bad(origin, key, e.problem());
         }
-    } else if (k == "max_wavelengths") whole(origin, key, v, 0, 100000);
-    else if (k == "isotropy") one_of(origin, key, v, {"auto", "isotropic", "anisotropic"});
-    else if (k == "grid") {
-        const auto p = parts(origin, key, v, 4);
-        whole(origin, key, p[0], 2, 4096), whole(origin, key, p[1], 1, 4096), whole(origin, key, p[2], 2, 4096),
-            whole(origin, key, p[3], 2, 4096);
-    } else if (k == "g_grid") {
-        const auto p = parts(origin, key, v, 2);
-        whole(origin, key, p[0], 2, 4096), whole(origin, key, p[1], 1, 4096);
-    } else if (k == "phi_d_samples") whole(origin, key, v, 0, 4096);
-    else if (k == "pca") {
-        for (const std::string& p : parts(origin, key, v, 2)) {
-            const double r = number(origin, key, p);
-            if (!(r > 0.0 && r <= 1.0)) bad(origin, key, "ratios must lie in (0, 1]");
-        }
-    } else if (k == "rank") {
-        for (const std::string& p : parts(origin, key, v, 2)) whole(origin, key, p, 1, 100000);
-    } else if (k == "importance") {
-        // One power for both directions, or "view,light".
-        if (v.find(',') == std::string::npos) number(origin, key, v);
-        else for (const std::string& p : parts(origin, key, v, 2)) number(origin, key, p);
-    } else if (k == "compressive") number(origin, key, v);
-    else if (k == "epsilon") {
-        if (!(number(origin, key, v) > 0.0)) bad(origin, key, "must be positive");
-    } else if (k == "volume_weight") one_of(origin, key, v, {"paper", "three-angle"});
-    else if (k == "iterations") whole(origin, key, v, 1, 100000);
-    else if (k == "tolerance") {
-        if (!(number(origin, key, v) >= 0.0)) bad(origin, key, "must not be negative");
-    } else if (k == "g_prior") one_of(origin, key, v, {"smith", "smith-start", "bounded", "free"});
-    else if (k == "plain" || k == "render") boolean(origin, key, v);
-    else if (k == "error_pairs") whole(origin, key, v, 0, 100000000);
-    else if (k == "target_psnr") {
-        try {
-            parse_target_psnr(v, key);
-        } catch (const Error& e) {
-            bad(origin, key, e.problem());
-        }
-    } else if (k == "threads" || k == "render.threads") whole(origin, key, v, 1, 1024);
+        return;
+    }
+    if (k == "render") boolean(origin, key, v);
+    else if (k == "render.threads") whole(origin, key, v, 1, 1024);
     else if (k == "render.size") whole(origin, key, v, 16, 4096);
     else if (k == "render.spp") whole(origin, key, v, 1, 1 << 20);
     else if (k == "render.seed") whole(origin, key, v, 0, 2147483647);
@@ -208,8 +142,8 @@ struct Reader : YamlContext {
                     }
                 }
             } else {
-                const std::string value = (k == "grid" || k == "g_grid" || k == "pca" || k == "rank" || k == "importance") ? list(kv.second, full)
-                                                                                                    : scalar(kv.second, full);
+                const ConvertSettingRow* row = find_setting(convert_settings_table(), k);
+                const std::string value = row && row->takes_list ? list(kv.second, full) : scalar(kv.second, full);
                 check_value(origin, full, k, value);
                 out[k] = {value, origin};
             }
@@ -337,73 +271,36 @@ std::vector<std::string> settings_keys() {
 }  // namespace
 
 const std::vector<std::string>& setting_names() {
-    static const std::vector<std::string> names = {
-        "preset", "wavelengths", "max_wavelengths", "isotropy", "grid", "g_grid", "phi_d_samples", "pca", "rank",
-        "importance", "compressive", "epsilon", "volume_weight", "iterations", "tolerance", "g_prior", "plain",
-        "error_pairs", "target_psnr", "threads", "memory_limit", "time_limit", "edit", "render", "render.size", "render.spp", "render.seed", "render.env",
-        "render.threads"};
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> n;
+        for (const ConvertSettingRow& row : convert_settings_table()) n.push_back(row.key);
+        for (const char* batch_only : {"memory_limit", "time_limit", "edit", "render", "render.size", "render.spp", "render.seed",
+                                       "render.env", "render.threads"}) {
+            n.emplace_back(batch_only);
+        }
+        return n;
+    }();
     return names;
 }
 
 ConvertSettings resolve_convert_settings(const Settings& s, bool source_isotropic) {
-    const auto has = [&](const char* k) { return s.count(k) > 0; };
-    const auto val = [&](const char* k) -> const std::string& { return s.at(k).value; };
-    const auto org = [&](const char* k) -> const std::string& { return s.at(k).origin; };
     for (const auto& [k, v] : s) check_value(v.origin, k, k, v.value);
-
-    Isotropy isotropy = Isotropy::Auto;
-    if (has("isotropy")) {
-        if (val("isotropy") == "isotropic") isotropy = Isotropy::Isotropic;
-        else if (val("isotropy") == "anisotropic") isotropy = Isotropy::Anisotropic;
+    const ConvertSettingsTable& table = convert_settings_table();
+    try {
+        return resolve_convert_settings(
+            table,
+            [&](const ConvertSettingRow& row) -> std::optional<SettingValue> {
+                const auto it = s.find(row.key);
+                if (it == s.end()) return std::nullopt;
+                return check_setting(row, it->second.value, row.key);
+            },
+            [](const ConvertSettingRow& row) { return row.key; }, source_isotropic);
+    } catch (const Error& e) {
+        // Settings that do not go together: named by the first one's origin and key.
+        const auto it = s.find(e.source());
+        if (it == s.end()) throw;
+        bad(it->second.origin, it->first, e.problem());
     }
-    const bool isotropic = isotropy == Isotropy::Auto ? source_isotropic : isotropy == Isotropy::Isotropic;
-    const ConvertPreset preset = parse_convert_preset(has("preset") ? val("preset") : "production", "preset");
-    ConvertSettings out = preset_settings(preset, isotropic);
-    out.isotropy = isotropy;
-    AwlsOptions& o = out.fit;
-    if (has("wavelengths")) out.wavelengths = val("wavelengths");
-    if (has("max_wavelengths")) out.max_wavelengths = int(whole(org("max_wavelengths"), "max_wavelengths", val("max_wavelengths"), 0, 100000));
-    if (has("grid")) {
-        const auto p = split(val("grid"), ',');
-        o.grid = {std::atoi(p[0].c_str()), std::atoi(p[1].c_str()), std::atoi(p[2].c_str()), std::atoi(p[3].c_str())};
-    }
-    if (has("g_grid")) {
-        const auto p = split(val("g_grid"), ',');
-        o.g_theta = std::atoi(p[0].c_str());
-        o.g_phi = std::atoi(p[1].c_str());
-    }
-    if (has("phi_d_samples")) o.phi_d_samples = std::atoi(val("phi_d_samples").c_str());
-    if (has("pca")) {
-        const auto p = split(val("pca"), ',');
-        out.compression.d_ratio = std::strtod(p[0].c_str(), nullptr);
-        out.compression.g_ratio = std::strtod(p[1].c_str(), nullptr);
-    }
-    if (has("pca") || has("rank")) out.compress_rgb = true;
-    if (has("rank")) {
-        const auto p = split(val("rank"), ',');
-        out.compression.d_rank = std::atoi(p[0].c_str());
-        out.compression.g_rank = std::atoi(p[1].c_str());
-    }
-    if (has("importance")) {
-        const auto p = split(val("importance"), ',');
-        o.importance_power_view = std::strtod(p[0].c_str(), nullptr);
-        o.importance_power_light = std::strtod(p.back().c_str(), nullptr);
-    }
-    if (has("compressive")) o.compressive_power = std::strtod(val("compressive").c_str(), nullptr);
-    if (has("epsilon")) o.compressive_epsilon = std::strtod(val("epsilon").c_str(), nullptr);
-    if (has("volume_weight")) o.volume_weight = val("volume_weight") == "paper" ? VolumeWeight::Paper : VolumeWeight::ThreeAngle;
-    if (has("iterations")) o.max_iterations = std::atoi(val("iterations").c_str());
-    if (has("tolerance")) o.tolerance = std::strtod(val("tolerance").c_str(), nullptr);
-    if (has("plain") && val("plain") == "true") o.acceleration = AwlsOptions::Acceleration::None;
-    if (has("g_prior")) {
-        const std::string& v = val("g_prior");
-        o.smith_start = v == "smith" || v == "smith-start";
-        o.bound_g = v == "smith" || v == "bounded";
-    }
-    if (has("error_pairs")) out.error_pairs = std::atoi(val("error_pairs").c_str());
-    if (has("target_psnr")) out.target_psnr = parse_target_psnr(val("target_psnr"), org("target_psnr"));
-    if (has("threads")) o.threads = std::atoi(val("threads").c_str());
-    return out;
 }
 
 RenderCheck resolve_render_check(const Settings& s) {
@@ -511,7 +408,8 @@ std::string batch_file_kind(const BatchConfig& config, const std::string& path) 
 std::string canonical_settings(const Settings& settings) {
     std::string text;
     for (const auto& [k, v] : settings) {
-        if (k == "threads" || k == "memory_limit" || k == "time_limit" || k == "edit" || k == "render" ||
+        const ConvertSettingRow* row = find_setting(convert_settings_table(), k);
+        if ((row && !row->changes_output) || k == "memory_limit" || k == "time_limit" || k == "edit" || k == "render" ||
             k.rfind("render.", 0) == 0)
             continue;
         text += k + "=" + v.value + "\n";

@@ -5,6 +5,7 @@
 #include <npf/batch/content_hash.h>
 #include <npf/core/atomic_file.h>
 #include <npf/converter/convert.h>
+#include <npf/converter/convert_settings_table.h>
 #include <npf/converter/open_material.h>
 #include <npf/core/error.h>
 #include <npf/core/text.h>
@@ -56,37 +57,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-std::string g17(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return b;
-}
-
-std::string resolved_text(const ConvertSettings& s) {
-    const AwlsOptions& o = s.fit;
-    std::string t;
-    t += "preset=" + std::string(convert_preset_name(s.preset)) + "\n";
-    t += "grid=" + std::to_string(o.grid.theta_h) + "," + std::to_string(o.grid.phi_h) + "," + std::to_string(o.grid.theta_d) +
-         "," + std::to_string(o.grid.phi_d) + "\n";
-    t += "g_grid=" + std::to_string(o.g_theta) + "," + std::to_string(o.g_phi) + "\n";
-    t += "phi_d_samples=" + std::to_string(o.phi_d_samples) + "\n";
-    t += "volume_weight=" + std::string(o.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle") + "\n";
-    // The light power only when it differs, so that symmetric settings keep their old hashes.
-    t += "importance=" + g17(o.importance_power_view) +
-         (o.importance_power_light != o.importance_power_view ? "," + g17(o.importance_power_light) : std::string()) +
-         "\ncompressive=" + g17(o.compressive_power) +
-         "\nepsilon=" + g17(o.compressive_epsilon) + "\n";
-    t += "acceleration=" + std::to_string(int(o.acceleration)) + "\ng_pin=" + g17(o.g_pin) + "\nsmith_start=" + std::to_string(o.smith_start) +
-         "\nbound_g=" + std::to_string(o.bound_g) + "\n";
-    t += "iterations=" + std::to_string(o.max_iterations) + "\ntolerance=" + g17(o.tolerance) + "\n";
-    t += "pca=" + g17(s.compression.d_ratio) + "," + g17(s.compression.g_ratio) + "\nrank=" +
-         std::to_string(s.compression.d_rank) + "," + std::to_string(s.compression.g_rank) + "\n";
-    t += "compress_rgb=" + std::to_string(s.compress_rgb) + "\nwavelengths=" + s.wavelengths +
-         "\nmax_wavelengths=" + std::to_string(s.max_wavelengths) + "\n";
-    t += "isotropy=" + std::to_string(int(s.isotropy)) + "\nerror_pairs=" + std::to_string(s.error_pairs) + "\n";
-    return t;
-}
 
 // The recipe's bytes and those of every file a value in it names (materials, spectra), so that
 // changing a referenced file redoes the edit.
@@ -273,7 +243,9 @@ std::string hash_text(const MaterialJob& job, bool source_isotropic, const std::
     std::string t = "npf batch content hash " + std::to_string(kContentHashVersion) + "\n";
     t += "npf " NPF_VERSION_STRING ", texture format " + std::to_string(npf_exr::kFormatVersion) + "\n";
     t += "input " + input_sha + "\n";
-    t += resolved_text(resolve_convert_settings(job.settings, source_isotropic));
+    const ConvertSettings settings = resolve_convert_settings(job.settings, source_isotropic);
+    const bool isotropic = settings.isotropy == Isotropy::Auto ? source_isotropic : settings.isotropy == Isotropy::Isotropic;
+    t += convert_settings_hash_text(settings, isotropic);
     const auto e = job.settings.find("edit");
     t += (e == job.settings.end() || e->second.value.empty()) ? "edit none\n" : edit_hash_text(e->second.value);
     return sha256_hex(t);

@@ -3,6 +3,7 @@
 #include "block_fit.h"
 #include "sample_set.h"
 
+#include <npf/converter/convert_settings_table.h>
 #include <npf/core/error.h>
 
 #include <algorithm>
@@ -23,17 +24,28 @@ constexpr std::size_t kResampleBytes = std::size_t(3) << 30;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// A row's range for one part: the fit defends the bounds that `npf convert` and the batch check.
+const ConvertSettingRow::Range& setting_range(const char* key, std::size_t part) {
+    return find_setting(convert_settings_table(), key)->ranges.at(part);
+}
+
+bool within(double v, const ConvertSettingRow::Range& r) { return (r.low_open ? v > r.low : v >= r.low) && v <= r.high; }
+
 void check_options(const AwlsOptions& o) {
     const RusinkiewiczGrid& g = o.grid;
-    if (g.theta_h < 2 || g.phi_h < 1 || g.theta_d < 2 || g.phi_d < 2 || o.g_theta < 2 || o.g_phi < 1) {
-        throw Error("fit", "grid sizes must be at least 2 (phi_h and the G phi cells at least 1)");
+    const int sizes[6] = {g.theta_h, g.phi_h, g.theta_d, g.phi_d, o.g_theta, o.g_phi};
+    const ConvertSettingRow::Range* ranges[6] = {&setting_range("grid", 0), &setting_range("grid", 1), &setting_range("grid", 2),
+                                                 &setting_range("grid", 3), &setting_range("g_grid", 0), &setting_range("g_grid", 1)};
+    for (int i = 0; i < 6; ++i) {
+        if (sizes[i] < ranges[i]->low) throw Error("fit", "grid sizes must be at least 2 (phi_h and the G phi cells at least 1)");
+        if (sizes[i] > ranges[i]->high) throw Error("fit", "grid sizes above 4096 are not supported");
     }
-    if (g.theta_h > 4096 || g.phi_h > 4096 || g.theta_d > 4096 || g.phi_d > 4096 || o.g_theta > 4096 || o.g_phi > 4096) {
-        throw Error("fit", "grid sizes above 4096 are not supported");
+    if (!within(o.phi_d_samples, setting_range("phi_d_samples", 0))) throw Error("fit", "phi_d samples must be in 0..4096");
+    if (!within(o.tolerance, setting_range("tolerance", 0)) || o.max_iterations < setting_range("iterations", 0).low) {
+        throw Error("fit", "need at least one iteration and a tolerance >= 0");
     }
-    if (o.phi_d_samples < 0 || o.phi_d_samples > 4096) throw Error("fit", "phi_d samples must be in 0..4096");
-    if (!(o.tolerance >= 0.0) || o.max_iterations < 1) throw Error("fit", "need at least one iteration and a tolerance >= 0");
-    if (!std::isfinite(o.importance_power_view) || !std::isfinite(o.importance_power_light) || !std::isfinite(o.compressive_power) || !(o.compressive_epsilon > 0.0)) {
+    if (!std::isfinite(o.importance_power_view) || !std::isfinite(o.importance_power_light) || !std::isfinite(o.compressive_power) ||
+        !within(o.compressive_epsilon, setting_range("epsilon", 0))) {
         throw Error("fit", "weight powers must be finite and the compressive epsilon positive");
     }
     if (!(o.g_pin >= 0.0) || !std::isfinite(o.g_pin)) throw Error("fit", "the G pin must be finite and >= 0");

@@ -1,0 +1,492 @@
+#include <npf/converter/convert_settings_table.h>
+
+#include <npf/core/channels.h>
+#include <npf/core/error.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+
+namespace npf {
+
+namespace {
+
+using Row = ConvertSettingRow;
+using Range = ConvertSettingRow::Range;
+constexpr double kAny = std::numeric_limits<double>::infinity();
+
+// Numbers in hash text: every digit (content hash version 1).
+std::string g17(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return b;
+}
+
+std::vector<std::string> split(const std::string& v, char separator) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t at = v.find(separator, start);
+        out.push_back(v.substr(start, at == std::string::npos ? std::string::npos : at - start));
+        if (at == std::string::npos) return out;
+        start = at + 1;
+    }
+}
+
+std::string join(const std::vector<std::string>& parts, const char* separator) {
+    std::string out;
+    for (const std::string& p : parts) out += (out.empty() ? "" : separator) + p;
+    return out;
+}
+
+std::string range_text(const Range& r) {
+    return std::string(r.low_open ? "(" : "[") + g17(r.low) + ", " + g17(r.high) + "]";
+}
+
+std::string grid_text(const DetailGrid& g, char separator) {
+    const std::string sep(1, separator);
+    return std::to_string(g.theta_h) + sep + std::to_string(g.theta_d) + sep + std::to_string(g.phi_d);
+}
+
+// Row makers: the common kinds in one line each.
+Row whole(std::string key, std::vector<Range> ranges, std::string help) {
+    Row r;
+    r.key = std::move(key);
+    r.kind = SettingKind::Whole;
+    r.least_parts = r.most_parts = ranges.size();
+    r.ranges = std::move(ranges);
+    r.help = std::move(help);
+    return r;
+}
+
+Row number(std::string key, std::size_t least_parts, std::size_t most_parts, std::vector<Range> ranges, std::string range_problem,
+           std::string help) {
+    Row r;
+    r.key = std::move(key);
+    r.kind = SettingKind::Number;
+    r.least_parts = least_parts;
+    r.most_parts = most_parts;
+    r.ranges = std::move(ranges);
+    r.range_problem = std::move(range_problem);
+    r.help = std::move(help);
+    return r;
+}
+
+Row choice(std::string key, std::vector<std::string> choices, std::string help) {
+    Row r;
+    r.key = std::move(key);
+    r.kind = SettingKind::Choice;
+    r.choices = std::move(choices);
+    r.help = std::move(help);
+    return r;
+}
+
+Row text(std::string key, std::function<void(const std::string&, const std::string&)> check, std::string help) {
+    Row r;
+    r.key = std::move(key);
+    r.kind = SettingKind::Text;
+    r.check = std::move(check);
+    r.help = std::move(help);
+    return r;
+}
+
+Row switched(std::string key, std::string help) {
+    Row r;
+    r.key = std::move(key);
+    r.kind = SettingKind::Switch;
+    r.help = std::move(help);
+    return r;
+}
+
+// An Always row: its place in the version 1 hash text.
+Row hashed(Row r, int order) {
+    r.hash = SettingHash::Always;
+    r.hash_order = order;
+    return r;
+}
+
+std::string g_prior_name(const AwlsOptions& o) {
+    if (o.smith_start) return o.bound_g ? "smith" : "smith-start";
+    return o.bound_g ? "bounded" : "free";
+}
+
+ConvertSettingsTable make_table() {
+    const Range grid_axis{2, 4096}, phi_axis{1, 4096};
+    ConvertSettingsTable t;
+    Row r;
+
+    r = hashed(choice("preset", {"preview", "production", "fine", "paper"},
+                      "preview, production (default), fine or paper (the paper's pure model; docs/fitting.md)"), 0);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.preset = parse_convert_preset(v.text, "preset"); };
+    r.read = [](const ConvertSettings& s) { return std::string(convert_preset_name(s.preset)); };
+    t.push_back(r);
+
+    r = hashed(text("wavelengths", [](const std::string& v, const std::string& what) { parse_channel_list(v, what); },
+                    "channels to fit: rgb, start:end:count or a,b,c nm (default: the source's)"), 14);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.wavelengths = v.text; };
+    r.read = [](const ConvertSettings& s) { return s.wavelengths; };
+    t.push_back(r);
+
+    r = hashed(whole("max_wavelengths", {{0, 100000}}, "keep at most this many of the source's wavelengths, evenly spread"), 15);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.max_wavelengths = int(v.numbers[0]); };
+    r.read = [](const ConvertSettings& s) { return std::to_string(s.max_wavelengths); };
+    t.push_back(r);
+
+    // Also read before the preset: it decides the preset's grids (resolve_convert_settings).
+    r = hashed(choice("isotropy", {"auto", "isotropic", "anisotropic"}, "auto (default: as the source), isotropic or anisotropic"), 16);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        s.isotropy = v.text == "isotropic" ? Isotropy::Isotropic : v.text == "anisotropic" ? Isotropy::Anisotropic : Isotropy::Auto;
+    };
+    r.read = [](const ConvertSettings& s) {
+        return std::string(s.isotropy == Isotropy::Isotropic ? "isotropic" : s.isotropy == Isotropy::Anisotropic ? "anisotropic" : "auto");
+    };
+    r.hash_lines = [](const ConvertSettings& s) { return "isotropy=" + std::to_string(int(s.isotropy)) + "\n"; };
+    t.push_back(r);
+
+    r = hashed(whole("grid", {grid_axis, phi_axis, grid_axis, grid_axis}, "fitting grid THETA_H,PHI_H,THETA_D,PHI_D (D and F tables)"), 1);
+    r.takes_list = true;
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        s.fit.grid = {int(v.numbers[0]), int(v.numbers[1]), int(v.numbers[2]), int(v.numbers[3])};
+    };
+    r.read = [](const ConvertSettings& s) {
+        const RusinkiewiczGrid& g = s.fit.grid;
+        return std::to_string(g.theta_h) + "," + std::to_string(g.phi_h) + "," + std::to_string(g.theta_d) + "," + std::to_string(g.phi_d);
+    };
+    t.push_back(r);
+
+    r = hashed(whole("g_grid", {grid_axis, phi_axis}, "G table THETA,PHI"), 2);
+    r.takes_list = true;
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        s.fit.g_theta = int(v.numbers[0]);
+        s.fit.g_phi = int(v.numbers[1]);
+    };
+    r.read = [](const ConvertSettings& s) { return std::to_string(s.fit.g_theta) + "," + std::to_string(s.fit.g_phi); };
+    t.push_back(r);
+
+    r = hashed(whole("phi_d_samples", {{0, 4096}}, "phi_d samples per ring (0: every grid cell)"), 3);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.phi_d_samples = int(v.numbers[0]); };
+    r.read = [](const ConvertSettings& s) { return std::to_string(s.fit.phi_d_samples); };
+    t.push_back(r);
+
+    // Asking for compression compresses RGB too (ConvertSettings::compress_rgb).
+    r = hashed(number("pca", 2, 2, {{0, 1, true}}, "ratios must lie in (0, 1]",
+                      "cumulative contribution ratios D,G kept by the SVD (e.g. 0.99,0.95; 1 = lossless)"), 12);
+    r.takes_list = true;
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        s.compression.d_ratio = v.numbers[0];
+        s.compression.g_ratio = v.numbers[1];
+        s.compress_rgb = true;
+    };
+    r.read = [](const ConvertSettings& s) { return g17(s.compression.d_ratio) + "," + g17(s.compression.g_ratio); };
+    t.push_back(r);
+
+    r = hashed(whole("rank", {{1, 100000}, {1, 100000}}, "fixed SVD ranks D,G (overrides --pca)"), 13);
+    r.takes_list = true;
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        s.compression.d_rank = int(v.numbers[0]);
+        s.compression.g_rank = int(v.numbers[1]);
+        s.compress_rgb = true;
+    };
+    r.read = [](const ConvertSettings& s) { return std::to_string(s.compression.d_rank) + "," + std::to_string(s.compression.g_rank); };
+    r.hash_lines = [](const ConvertSettings& s) {
+        return "rank=" + std::to_string(s.compression.d_rank) + "," + std::to_string(s.compression.g_rank) +
+               "\ncompress_rgb=" + std::to_string(s.compress_rgb) + "\n";
+    };
+    t.push_back(r);
+
+    r = hashed(number("importance", 1, 2, {}, "",
+                      "w_I powers: P for (cos_i cos_o)^P, or PV,PL for cos_i^PV cos_o^PL (1,2 weighs errors as a render does; "
+                      "docs/fitting.md)"), 5);
+    r.takes_list = true;
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        s.fit.importance_power_view = v.numbers.front();
+        s.fit.importance_power_light = v.numbers.back();
+    };
+    // The light power only when it differs, so that symmetric settings keep their old hashes.
+    r.read = [](const ConvertSettings& s) {
+        const AwlsOptions& o = s.fit;
+        return g17(o.importance_power_view) +
+               (o.importance_power_light != o.importance_power_view ? "," + g17(o.importance_power_light) : std::string());
+    };
+    t.push_back(r);
+
+    r = hashed(number("compressive", 1, 1, {}, "", "w_C power q: (rho + eps)^-q"), 6);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.compressive_power = v.numbers[0]; };
+    r.read = [](const ConvertSettings& s) { return g17(s.fit.compressive_power); };
+    t.push_back(r);
+
+    r = hashed(number("epsilon", 1, 1, {{0, kAny, true}}, "must be positive", "w_C epsilon (1/sr)"), 7);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.compressive_epsilon = v.numbers[0]; };
+    r.read = [](const ConvertSettings& s) { return g17(s.fit.compressive_epsilon); };
+    t.push_back(r);
+
+    r = hashed(choice("volume_weight", {"paper", "three-angle"}, "paper (default) or three-angle (Bagher et al.)"), 4);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        s.fit.volume_weight = v.text == "paper" ? VolumeWeight::Paper : VolumeWeight::ThreeAngle;
+    };
+    r.read = [](const ConvertSettings& s) { return std::string(s.fit.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle"); };
+    t.push_back(r);
+
+    r = hashed(whole("iterations", {{1, 100000}}, "most AWLS sweeps per block of channels"), 10);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.max_iterations = int(v.numbers[0]); };
+    r.read = [](const ConvertSettings& s) { return std::to_string(s.fit.max_iterations); };
+    t.push_back(r);
+
+    r = hashed(number("tolerance", 1, 1, {{0, kAny}}, "must not be negative",
+                      "stop when a sweep lowers the weighted error by less than this, relative"), 11);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.tolerance = v.numbers[0]; };
+    r.read = [](const ConvertSettings& s) { return g17(s.fit.tolerance); };
+    t.push_back(r);
+
+    r = hashed(choice("g_prior", {"smith", "smith-start", "bounded", "free"},
+                      "smith (G starts from Smith's masking of D and stays <= 1), smith-start (starts there only), bounded (G <= "
+                      "1 only) or free"), 9);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        s.fit.smith_start = v.text == "smith" || v.text == "smith-start";
+        s.fit.bound_g = v.text == "smith" || v.text == "bounded";
+    };
+    r.read = [](const ConvertSettings& s) { return g_prior_name(s.fit); };
+    r.hash_lines = [](const ConvertSettings& s) {
+        return "smith_start=" + std::to_string(s.fit.smith_start) + "\nbound_g=" + std::to_string(s.fit.bound_g) + "\n";
+    };
+    t.push_back(r);
+
+    // Its hash lines carry the G pin too: the fit's convergence options, which the presets set.
+    r = hashed(switched("plain", "no line-search extrapolation (the paper's plain alternation)"), 8);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        if (v.on) s.fit.acceleration = AwlsOptions::Acceleration::None;
+    };
+    r.read = [](const ConvertSettings& s) {
+        return std::string(s.fit.acceleration == AwlsOptions::Acceleration::None ? "true" : "false");
+    };
+    r.hash_lines = [](const ConvertSettings& s) {
+        return "acceleration=" + std::to_string(int(s.fit.acceleration)) + "\ng_pin=" + g17(s.fit.g_pin) + "\n";
+    };
+    t.push_back(r);
+
+    r = text("detail",
+             [](const std::string& v, const std::string& what) {
+                 if (v != "none") parse_detail_grid(v, ',', what);
+             },
+             "detail layer grid THETA_H,THETA_D,PHI_D (u_h, theta_d, phi_d), or none (the paper's pure model; docs/fitting.md)");
+    r.takes_list = true;
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        s.detail.grid = v.text == "none" ? DetailGrid{} : parse_detail_grid(v.text, ',', "detail");
+    };
+    r.read = [](const ConvertSettings& s) { return s.detail.grid.empty() ? std::string("none") : grid_text(s.detail.grid, ','); };
+    t.push_back(r);
+
+    r = number("detail_energy", 1, 1, {{0, kAny}}, "must not be negative", "weight of the detail fit's energy term (0: none; default 1e4)");
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.energy_weight = v.numbers[0]; };
+    r.read = [](const ConvertSettings& s) { return g17(s.detail.energy_weight); };
+    t.push_back(r);
+
+    r = choice("horizon", {"closed", "open"},
+               "closed (default; preview and production: G falls to 0 at the horizon, no light gained at silhouettes) or open (G "
+               "as fitted; the paper preset)");
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.close_horizon = v.text == "closed"; };
+    r.read = [](const ConvertSettings& s) { return std::string(s.close_horizon ? "closed" : "open"); };
+    t.push_back(r);
+
+    r = number("detail_weight", 1, 1, {{0, 4}}, "must lie in [0, 4]",
+               "power p of the detail fit's display weight (f + eps)^-p (default 1.17; 0: plain least squares)");
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.display_power = v.numbers[0]; };
+    r.read = [](const ConvertSettings& s) { return g17(s.detail.display_power); };
+    t.push_back(r);
+
+    r = number("detail_views", 1, 0, {}, "", "view angles (degrees) at which the detail fit holds the source's albedo");
+    r.takes_list = true;
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.energy_views_deg = v.numbers; };
+    r.read = [](const ConvertSettings& s) {
+        std::vector<std::string> views;
+        for (double d : s.detail.energy_views_deg) views.push_back(g17(d));
+        return join(views, ",");
+    };
+    t.push_back(r);
+
+    r = hashed(whole("error_pairs", {{0, 100000000}}, "direction pairs of the BRDF-space error (0 skips it)"), 17);
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.error_pairs = int(v.numbers[0]); };
+    r.read = [](const ConvertSettings& s) { return std::to_string(s.error_pairs); };
+    t.push_back(r);
+
+    // Not in the hash: content hash version 1 left it out, and adding it would redo every
+    // output made with it. (A changed target does not redo a batch output.)
+    r = text("target_psnr", [](const std::string& v, const std::string& what) { parse_target_psnr(v, what); },
+             "predicted render PSNR to reach (dB): writes the smallest detail layer (none, 16x8x16 .. 64x32x64) that reaches it, "
+             "or the best with a warning");
+    r.hash = SettingHash::Never;
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.target_psnr = parse_target_psnr(v.text, "target_psnr"); };
+    r.read = [](const ConvertSettings& s) { return g17(s.target_psnr); };
+    t.push_back(r);
+
+    r = text("target_grids", [](const std::string& v, const std::string& what) { parse_detail_ladder(v, what); },
+             "with --target-psnr: the detail grids to try after none, growing (default "
+             "16x8x16,24x10x24,32x12x32,40x20x40,48x24x48,64x32x64)");
+    r.takes_list = true;
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.target_ladder = parse_detail_ladder(v.text, "target_grids"); };
+    r.read = [](const ConvertSettings& s) {
+        std::vector<std::string> grids;
+        for (const DetailGrid& g : s.target_ladder) grids.push_back(grid_text(g, 'x'));
+        return join(grids, ",");
+    };
+    t.push_back(r);
+
+    r = switched("no_predict", "skip the predicted render PSNR (4 renders of 128x128 at 64 spp: a few seconds)");
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        if (v.on) s.predict_psnr = false;
+    };
+    r.read = [](const ConvertSettings& s) { return std::string(s.predict_psnr ? "false" : "true"); };
+    t.push_back(r);
+
+    r = whole("threads", {{1, 1024}}, "threads (default: all cores)");
+    r.hash = SettingHash::Never;
+    r.changes_output = false;
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.threads = int(v.numbers[0]); };
+    r.read = [](const ConvertSettings& s) { return std::to_string(s.fit.threads); };
+    t.push_back(r);
+    return t;
+}
+
+}  // namespace
+
+const ConvertSettingsTable& convert_settings_table() {
+    static const ConvertSettingsTable table = make_table();
+    return table;
+}
+
+const ConvertSettingRow* find_setting(const ConvertSettingsTable& table, const std::string& key) {
+    for (const ConvertSettingRow& row : table) {
+        if (row.key == key) return &row;
+    }
+    return nullptr;
+}
+
+std::string setting_flag(const ConvertSettingRow& row) {
+    std::string flag = "--" + row.key;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    return flag;
+}
+
+SettingValue check_setting(const ConvertSettingRow& row, const std::string& v, const std::string& what) {
+    SettingValue out;
+    out.text = v;
+    switch (row.kind) {
+    case SettingKind::Switch:
+        if (v != "true" && v != "false") throw Error(what, "expects true or false, got '" + v + "'");
+        out.on = v == "true";
+        break;
+    case SettingKind::Choice:
+        if (std::find(row.choices.begin(), row.choices.end(), v) == row.choices.end()) {
+            throw Error(what, "'" + v + "' is not one of " + join(row.choices, ", "));
+        }
+        break;
+    case SettingKind::Text:
+        if (row.check) row.check(v, what);
+        break;
+    case SettingKind::Whole:
+    case SettingKind::Number: {
+        const std::vector<std::string> parts = split(v, ',');
+        if (parts.size() < row.least_parts || (row.most_parts > 0 && parts.size() > row.most_parts)) {
+            const std::size_t most = row.most_parts > 0 ? row.most_parts : row.least_parts;
+            throw Error(what, "expects " + std::to_string(most) + " values" +
+                                  (row.least_parts < most ? " (or " + std::to_string(row.least_parts) + ")" : std::string()) +
+                                  ", got '" + v + "'");
+        }
+        for (std::size_t i = 0; i < parts.size(); ++i) {
+            const std::string& p = parts[i];
+            const std::optional<Range> range =
+                row.ranges.empty() ? std::nullopt : std::optional<Range>(row.ranges[std::min(i, row.ranges.size() - 1)]);
+            const auto inside = [&](double d) {
+                return !range || ((range->low_open ? d > range->low : d >= range->low) && d <= range->high);
+            };
+            errno = 0;
+            char* end = nullptr;
+            if (row.kind == SettingKind::Whole) {
+                const long n = std::strtol(p.c_str(), &end, 10);
+                if (p.empty() || *end != '\0' || errno == ERANGE || !inside(double(n))) {
+                    throw Error(what, "needs a whole number in " + range_text(*range) + ", got '" + p + "'");
+                }
+                out.numbers.push_back(double(n));
+            } else {
+                const double d = std::strtod(p.c_str(), &end);
+                if (p.empty() || *end != '\0' || !std::isfinite(d)) throw Error(what, "'" + p + "' is not a number");
+                if (!inside(d)) throw Error(what, row.range_problem.empty() ? "must lie in " + range_text(*range) : row.range_problem);
+                out.numbers.push_back(d);
+            }
+        }
+        break;
+    }
+    }
+    return out;
+}
+
+std::string setting_default(const ConvertSettingRow& row, ConvertPreset preset, bool isotropic) {
+    return row.read(preset_settings(preset, isotropic));
+}
+
+ConvertSettings resolve_convert_settings(const ConvertSettingsTable& table,
+                                         const std::function<std::optional<SettingValue>(const ConvertSettingRow&)>& given,
+                                         const std::function<std::string(const ConvertSettingRow&)>& name_of,
+                                         bool source_isotropic) {
+    std::vector<std::optional<SettingValue>> values;
+    for (const ConvertSettingRow& row : table) values.push_back(given(row));
+    const auto value_of = [&](const std::string& key) -> const std::optional<SettingValue>* {
+        for (std::size_t i = 0; i < table.size(); ++i) {
+            if (table[i].key == key) return &values[i];
+        }
+        return nullptr;
+    };
+    const auto has = [&](const std::string& key) {
+        const std::optional<SettingValue>* v = value_of(key);
+        return v && v->has_value();
+    };
+    const auto name = [&](const std::string& key) { return name_of(*find_setting(table, key)); };
+
+    // The target chooses the detail grid, by the prediction.
+    if (has("target_psnr")) {
+        if (has("detail")) throw Error(name("target_psnr"), "chooses the detail grid itself; leave out " + name("detail"));
+        const std::optional<SettingValue>* no_predict = value_of("no_predict");
+        if (no_predict && no_predict->has_value() && (*no_predict)->on) {
+            throw Error(name("target_psnr"), "needs the prediction; leave out " + name("no_predict"));
+        }
+    } else if (has("target_grids")) {
+        throw Error(name("target_grids"), "needs " + name("target_psnr"));
+    }
+
+    // Isotropy decides the preset's grids; every other row then goes over the preset's values.
+    Isotropy isotropy = Isotropy::Auto;
+    if (has("isotropy")) {
+        const std::string& v = (*value_of("isotropy"))->text;
+        isotropy = v == "isotropic" ? Isotropy::Isotropic : v == "anisotropic" ? Isotropy::Anisotropic : Isotropy::Auto;
+    }
+    const bool isotropic = isotropy == Isotropy::Auto ? source_isotropic : isotropy == Isotropy::Isotropic;
+    const ConvertPreset preset = has("preset") ? parse_convert_preset((*value_of("preset"))->text, name("preset")) : ConvertPreset::Production;
+    ConvertSettings s = preset_settings(preset, isotropic);
+    s.isotropy = isotropy;
+    for (std::size_t i = 0; i < table.size(); ++i) {
+        if (values[i]) table[i].apply(s, *values[i]);
+    }
+    return s;
+}
+
+std::string convert_settings_hash_text(const ConvertSettings& s, bool isotropic, const ConvertSettingsTable& table) {
+    std::vector<const ConvertSettingRow*> always;
+    for (const ConvertSettingRow& row : table) {
+        if (row.hash == SettingHash::Always) always.push_back(&row);
+    }
+    std::stable_sort(always.begin(), always.end(), [](const ConvertSettingRow* a, const ConvertSettingRow* b) { return a->hash_order < b->hash_order; });
+    std::string t;
+    for (const ConvertSettingRow* row : always) t += row->hash_lines ? row->hash_lines(s) : row->key + "=" + row->read(s) + "\n";
+    const ConvertSettings preset = preset_settings(s.preset, isotropic);
+    for (const ConvertSettingRow& row : table) {
+        if (row.hash != SettingHash::WhenChanged) continue;
+        const std::string value = row.read(s);
+        if (value != row.read(preset)) t += row.key + "=" + value + "\n";
+    }
+    return t;
+}
+
+}  // namespace npf
