@@ -161,10 +161,11 @@ std::string describe_material(const std::string& path, const Brdf& brdf) {
 
 int run_albedo(const std::vector<std::string>& args) {
     CommandLine cl("albedo", args, kFlags);
-    if (cl.has("--help") || cl.positional().size() != 1) {
+    if (cl.has("--help")) {
         std::printf("%s%s", kHelp, usage_lines(kFlags).c_str());
-        return cl.has("--help") ? 0 : 2;
+        return 0;
     }
+    cl.expect_positional(1, 1, "one MATERIAL");
     // Options first, so that a bad flag fails before any file is read.
     AlbedoTableOptions options;
     if (cl.has("--theta")) options.theta_deg = parse_theta_list(cl.value("--theta"));

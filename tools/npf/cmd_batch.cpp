@@ -10,6 +10,7 @@
 #include <npf/batch/summary.h>
 #include <npf/core/error.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -40,7 +41,7 @@ const std::vector<FlagSpec> kFlags = {
 constexpr int kSomeFailed = 4;
 
 int run_merge(const CommandLine& cl) {
-    if (cl.positional().empty()) throw Error("--merge", "needs one or more summary files (.json)");
+    cl.expect_positional(1, SIZE_MAX, "one or more summary files (.json) with --merge");
     // A shard that died before writing its summary must not stop the others' merge: its file is
     // reported missing (and the merge's status says the result is incomplete).
     std::vector<batch::BatchSummary> parts;
@@ -80,7 +81,7 @@ int run_batch(const std::vector<std::string>& args) {
         return batch::run_batch_worker(args[1]);
     }
     CommandLine cl("batch", args, kFlags);
-    if (cl.has("--help") || (!cl.has("--merge") && cl.positional().size() != 1)) {
+    if (cl.has("--help")) {
         std::printf("usage: npf batch CONFIG.yaml [--shard K/N] [--summary BASE] [--force] [--threads N] [--check] [--quiet]\n"
                     "                 [--memory-limit SIZE] [--time-limit SECONDS] [--in-process]\n"
                     "       npf batch --merge SUMMARY.json... [-o BASE]\n\n"
@@ -93,8 +94,9 @@ int run_batch(const std::vector<std::string>& args) {
                     "Exit status: 0 all materials converted or up to date; 4 some failed (or, merging, a shard is\n"
                     "missing); 1 the batch could not run (configuration, output folder).\n\n%s",
                     usage_lines(kFlags).c_str());
-        return cl.has("--help") ? 0 : 2;
+        return 0;
     }
+    if (!cl.has("--merge")) cl.expect_positional(1, 1, "one CONFIG.yaml");
     if (cl.has("--merge")) return run_merge(cl);
 
     const batch::BatchConfig config = batch::load_batch_config(cl.positional()[0]);

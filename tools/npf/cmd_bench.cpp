@@ -114,10 +114,11 @@ Timing time_calls(double seconds, const std::function<double()>& batch) {
 
 int run_bench(const std::vector<std::string>& args) {
     CommandLine cl("bench", args, kFlags);
-    if (cl.has("--help") || cl.positional().size() != 1) {
+    if (cl.has("--help")) {
         std::printf("%s%s", kHelp, usage_lines(kFlags).c_str());
-        return cl.has("--help") ? 0 : 2;
+        return 0;
     }
+    cl.expect_positional(1, 1, "one MATERIAL.exr");
     const std::string path = cl.positional()[0];
     require_regular_file(path, "an NPF texture (.exr)");
     if (!is_npf_texture(path)) throw Error(path, "not an NPF factor texture (convert it first: npf convert)");

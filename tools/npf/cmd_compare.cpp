@@ -103,6 +103,10 @@ FloorArguments take_floor_images(const std::vector<std::string>& args) {
     bool seen = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
+        if (a == "--") {  // the end of the options: the rest are images for CommandLine
+            out.rest.insert(out.rest.end(), args.begin() + std::ptrdiff_t(i), args.end());
+            break;
+        }
         const bool bare = a == "--floor", inline_value = a.rfind("--floor=", 0) == 0;
         if (!bare && !inline_value) {
             out.rest.push_back(a);
@@ -126,10 +130,11 @@ int run_compare(const std::vector<std::string>& args) {
     CommandLine cl("compare", floor_args.rest, kFlags);
     if (!floor_args.images.empty() && !cl.has("--help") && cl.positional().size() == 1)
         throw Error("--floor", "takes the one or two images right after it; give REF.exr TEST.exr before --floor");
-    if (cl.has("--help") || cl.positional().size() != 2) {
+    if (cl.has("--help")) {
         std::printf("%s%s", kHelp, usage_lines(kFlags).c_str());
-        return cl.has("--help") ? 0 : 2;
+        return 0;
     }
+    cl.expect_positional(2, 2, "two images REF.exr TEST.exr");
     render::MetricOptions options;
     const std::string from = cl.value("--from", "linear");
     if (from == "linear") {

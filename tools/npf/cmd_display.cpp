@@ -43,15 +43,17 @@ int list(const std::string& config) {
 int run_display(const std::vector<std::string>& args) {
     CommandLine cl("display", args, kFlags);
     if (cl.has("--list") && !cl.has("--help")) return list(cl.value("--config"));
-    if (cl.has("--help") || cl.positional().size() != 1 || !cl.has("-o")) {
+    if (cl.has("--help")) {
         std::printf("usage: npf display IN.exr -o OUT.png [--from linear|xyz] [--config FILE] [--display NAME]\n"
                     "                   [--view NAME]\n"
                     "       npf display --list [--config FILE]\n\n"
                     "Writes a scene-referred image (any file OpenImageIO reads; its first three channels, and\n"
                     "alpha) as an 8-bit PNG through an OpenColorIO display and view (docs/color.md).\n\n%s",
                     usage_lines(kFlags).c_str());
-        return cl.has("--help") ? 0 : 2;
+        return 0;
     }
+    cl.expect_positional(1, 1, "one IN.exr");
+    cl.require("-o");
     const std::string from = cl.value("--from", "linear");
     color::DisplayOptions options;
     if (from == "linear") {

@@ -110,32 +110,6 @@ void require_npf_texture(const std::string& path, const std::string& origin) {
     throw Error(origin, e.what());  // as apply_edits names a step's errors
 }
 
-// The step flags in command-line order, with their values (CommandLine keeps only the last).
-std::vector<std::pair<std::string, std::string>> ordered_steps(const std::vector<std::string>& args) {
-    std::vector<std::pair<std::string, std::string>> out;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        std::string name = a, value;
-        bool inline_value = false;
-        if (const auto eq = a.find('='); a.rfind("--", 0) == 0 && eq != std::string::npos) {
-            name = a.substr(0, eq);
-            value = a.substr(eq + 1);
-            inline_value = true;
-        }
-        const FlagSpec* spec = nullptr;
-        for (const FlagSpec& f : kFlags) {
-            if (f.name == name) spec = &f;
-        }
-        if (!spec || !spec->takes_value) continue;
-        if (!inline_value) {
-            if (i + 1 >= args.size()) break;  // CommandLine reports it
-            value = args[++i];
-        }
-        if (kStepFlags.count(name)) out.emplace_back(name, value);
-    }
-    return out;
-}
-
 edit::EditStep step_from_flag(const std::string& flag, const std::string& v, const edit::FilmBase& base,
                               edit::FilmMode mode, bool keep_brightness) {
     using edit::EditStep;
@@ -214,7 +188,7 @@ edit::EditStep step_from_flag(const std::string& flag, const std::string& v, con
 int run_edit(const std::vector<std::string>& args) {
     CommandLine cl("edit", args, kFlags);
     const bool dry = cl.has("--dry-run");
-    if (cl.has("--help") || cl.positional().size() != 1 || (!cl.has("-o") && !dry)) {
+    if (cl.has("--help")) {
         std::printf("usage: npf edit IN.exr -o OUT.exr [--recipe FILE.yaml] [edit flags]\n\n"
                     "Edits a fitted NPF material (paper sec. 4.3): NDF linear transforms and their friendly forms,\n"
                     "diffuse colour, specular colour, thin-film Fresnel. The recipe's steps run first, then the edit\n"
@@ -226,8 +200,10 @@ int run_edit(const std::vector<std::string>& args) {
                     "  npf edit steel.exr -o steel_film.exr --thin-film 615,1.3 --film-base fitted\n"
                     "  npf edit paper.exr -o paper_capped.exr --limit-albedo 1\n\n%s",
                     usage_lines(kFlags).c_str());
-        return cl.has("--help") ? 0 : 2;
+        return 0;
     }
+    cl.expect_positional(1, 1, "one IN.exr");
+    if (!dry) cl.require("-o");
     const std::string input = cl.positional()[0], output = cl.value("-o");
 
     // Everything that can fail on the command line fails before any work.
@@ -241,7 +217,6 @@ int run_edit(const std::vector<std::string>& args) {
         if (v == "replace") mode = edit::FilmMode::Replace;
         else if (v != "ratio") throw Error("--film-mode", "'" + v + "' is not ratio or replace");
     }
-    const auto flag_steps = ordered_steps(args);
     if ((cl.has("--film-base") || cl.has("--film-mode")) && !cl.has("--thin-film")) {
         throw Error(cl.has("--film-base") ? "--film-base" : "--film-mode", "applies to --thin-film, which is not given");
     }
@@ -249,8 +224,8 @@ int run_edit(const std::vector<std::string>& args) {
     if (cl.has("--keep-brightness") && !cl.has("--specular-from")) {
         throw Error("--keep-brightness", "applies to --specular-from, which is not given");
     }
-    for (const auto& [flag, value] : flag_steps) {
-        steps.push_back(step_from_flag(flag, value, base, mode, cl.has("--keep-brightness")));
+    for (const auto& [flag, value] : cl.flags_in_order()) {
+        if (kStepFlags.count(flag)) steps.push_back(step_from_flag(flag, value, base, mode, cl.has("--keep-brightness")));
     }
     if (cl.has("--phi-cells")) {
         const double v = number("--phi-cells", cl.value("--phi-cells"));

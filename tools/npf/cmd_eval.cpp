@@ -6,6 +6,7 @@
 #include <npf/converter/open_material.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
+#include <npf/core/json_text.h>
 #include <npf/shading/npf_brdf.h>
 #include <npf/shading/npf_texture_file.h>
 
@@ -30,11 +31,13 @@ const std::vector<FlagSpec> kFlags = {
     {"--pdf", false, "append a column 'pdf': the density (1/sr) with which the material samples wo given wi"},
     {"--path", true, "NPF textures (.exr): 'memory' (tables in arrays, the default) or 'texture' (lookups through "
                      "OpenImageIO's TextureSystem); a comment line names the path used"},
+    {"--json", false, "print one JSON object (channels, then a row per pair: values and pdf) instead of the text"},
     {"--help", false, "show this help"},
 };
 
 const char* kHelp =
-    "usage: npf eval FILE [--dirs PATH|-] [--cos] [--wavelengths LIST] [--raw] [--pdf] [--path memory|texture]\n\n"
+    "usage: npf eval FILE [--dirs PATH|-] [--cos] [--wavelengths LIST] [--raw] [--pdf] [--path memory|texture]\n"
+    "                [--json]\n\n"
     "FILE is any material: RGL .bsdf, MERL .binary, NPF texture .exr, Neural BRDF .h5 or analytic recipe .yaml.\n"
     "Directions are in the local frame (z the normal, x the tangent), both pointing away from the\n"
     "surface, and are normalised on reading; lines starting with '#' and blank lines are skipped.\n"
@@ -66,13 +69,14 @@ bool parse_pair(const std::string& line, double v[6], std::string& why) {
 
 int run_eval(const std::vector<std::string>& args) {
     CommandLine cl("eval", args, kFlags);
-    if (cl.has("--help") || cl.positional().size() != 1) {
+    if (cl.has("--help")) {
         std::printf("%s%s", kHelp, usage_lines(kFlags).c_str());
-        return cl.has("--help") ? 0 : 2;
+        return 0;
     }
+    cl.expect_positional(1, 1, "one FILE");
     const std::string path = cl.positional()[0];
     std::unique_ptr<Brdf> brdf;
-    std::string path_line;
+    std::string path_line, path_kind = "null";
     if (cl.has("--path")) {
         const std::string kind = cl.value("--path");
         if (kind != "memory" && kind != "texture") {
@@ -85,6 +89,7 @@ int run_eval(const std::vector<std::string>& args) {
         const bool texture = kind == "texture";
         brdf = std::make_unique<NpfBrdf>(path, texture ? NpfClosure::Path::Texture : NpfClosure::Path::Memory);
         path_line = texture ? "# path texture (OpenImageIO TextureSystem)\n" : "# path memory\n";
+        path_kind = json_string(kind);
     } else {
         brdf = open_material(path);
     }
@@ -109,7 +114,21 @@ int run_eval(const std::vector<std::string>& args) {
     std::istream& in = dirs == "-" ? std::cin : file;
     const std::string dirs_name = dirs == "-" ? "<stdin>" : dirs;
 
-    std::string out = path_line + "# " + channels.describe() + (with_pdf ? " pdf" : "") + "\n";
+    // --json: the same content as the text, the header as keys and a row object per pair.
+    const bool json = cl.has("--json");
+    std::string out;
+    if (json) {
+        out = "{\"material\": " + json_string(path) + ", \"path\": " + path_kind + ", \"quantity\": " +
+              json_string(with_cos ? "f_r cos" : "f_r") + ", \"channels\": [";
+        for (std::size_t k = 0; k < channels.size(); ++k) {
+            out += k ? ", " : "";
+            out += channels.is_rgb() ? json_string(channels.name(k)) : json_number(double(channels.wavelengths()[k]), 7);
+        }
+        out += "],\n \"rows\": [";
+    } else {
+        out = path_line + "# " + channels.describe() + (with_pdf ? " pdf" : "") + "\n";
+    }
+    bool first_row = true;
     std::vector<float> values(query.size());
     std::string line;
     char buf[64];
@@ -129,24 +148,37 @@ int run_eval(const std::vector<std::string>& args) {
         const Vec3 wi(float(v[0] / li), float(v[1] / li), float(v[2] / li));
         const Vec3 wo(float(v[3] / lo), float(v[4] / lo), float(v[5] / lo));
         brdf->eval_cos(wi, wo, query, values.data());
+        if (json) out += first_row ? "\n  {\"values\": [" : ",\n  {\"values\": [";
+        first_row = false;
         for (std::size_t k = 0; k < values.size(); ++k) {
             // f_r = (f_r cos) / cos; below the horizon the value is 0 and stays 0.
             double value = values[k];
             if (!with_cos) value = wo.z > 0.f ? value / double(wo.z) : 0.0;
-            std::snprintf(buf, sizeof(buf), k ? " %.9g" : "%.9g", value);
-            out += buf;
+            if (json) {
+                out += (k ? ", " : "") + json_number(value);
+            } else {
+                std::snprintf(buf, sizeof(buf), k ? " %.9g" : "%.9g", value);
+                out += buf;
+            }
         }
-        if (with_pdf) {
-            std::snprintf(buf, sizeof(buf), " %.9g", double(brdf->pdf(wi, wo)));
-            out += buf;
+        if (json) {
+            out += "]";
+            if (with_pdf) out += ", \"pdf\": " + json_number(double(brdf->pdf(wi, wo)));
+            out += "}";
+        } else {
+            if (with_pdf) {
+                std::snprintf(buf, sizeof(buf), " %.9g", double(brdf->pdf(wi, wo)));
+                out += buf;
+            }
+            out += '\n';
         }
-        out += '\n';
         if (out.size() > (1u << 16)) {
             std::fwrite(out.data(), 1, out.size(), stdout);
             out.clear();
         }
     }
     if (in.bad()) throw Error(dirs_name, "read error");
+    if (json) out += "]}\n";
     std::fwrite(out.data(), 1, out.size(), stdout);
     return 0;
 }

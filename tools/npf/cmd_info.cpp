@@ -4,7 +4,9 @@
 
 #include <npf/converter/open_material.h>
 #include <npf/core/input_file.h>
+#include <npf/core/json_text.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -13,6 +15,7 @@ namespace npf::cli {
 namespace {
 
 const std::vector<FlagSpec> kFlags = {
+    {"--json", false, "print a JSON array, one object per file, instead of the text"},
     {"--help", false, "show this help"},
 };
 
@@ -46,23 +49,55 @@ std::string channel_summary(const Channels& c) {
     return buf;
 }
 
+// The text output's content as one JSON object: wavelengths as numbers, details as strings.
+std::string json_object(const std::string& path, const BrdfInfo& i, std::uint64_t bytes) {
+    std::string out = "{\"file\": " + json_string(path) + ", \"format\": " + json_string(i.format) +
+                      ", \"format_name\": " + json_string(format_name(i.format)) +
+                      ", \"description\": " + json_string(i.description) +
+                      ", \"size_bytes\": " + std::to_string(bytes) +
+                      ", \"isotropic\": " + (i.isotropic ? "true" : "false") +
+                      ", \"channels\": " + json_string(i.channels.is_rgb() ? "rgb" : "spectral") +
+                      ", \"channel_count\": " + std::to_string(i.channels.size()) + ", \"wavelengths_nm\": ";
+    if (i.channels.is_rgb()) {
+        out += "null";
+    } else {
+        out += "[";
+        const std::vector<float>& w = i.channels.wavelengths();
+        for (std::size_t k = 0; k < w.size(); ++k) out += (k ? ", " : "") + json_number(double(w[k]), 7);
+        out += "]";
+    }
+    out += ", \"details\": {";
+    for (std::size_t k = 0; k < i.details.size(); ++k) {
+        out += (k ? ", " : "") + json_string(i.details[k].first) + ": " + json_string(i.details[k].second);
+    }
+    return out + "}}";
+}
+
 }  // namespace
 
 int run_info(const std::vector<std::string>& args) {
     CommandLine cl("info", args, kFlags);
-    if (cl.has("--help") || cl.positional().empty()) {
-        std::printf("usage: npf info FILE...\n\nPrints format, isotropy, channels (wavelength range and "
+    if (cl.has("--help")) {
+        std::printf("usage: npf info FILE... [--json]\n\nPrints format, isotropy, channels (wavelength range and "
                     "count), grid sizes, description and size of each material: RGL .bsdf, MERL .binary, NPF "
                     "texture .exr, Neural BRDF .h5 or analytic recipe .yaml.\n\n%s",
                     usage_lines(kFlags).c_str());
-        return cl.has("--help") ? 0 : 2;
+        return 0;
     }
+    cl.expect_positional(1, SIZE_MAX, "one or more FILEs");
+    const bool json = cl.has("--json");
+    std::string json_text;  // printed whole at the end: an error leaves no half array
     bool first = true;
     for (const std::string& path : cl.positional()) {
         std::unique_ptr<Brdf> brdf = open_material(path);
         const BrdfInfo& i = brdf->info();
         // A recipe holds no data (file_bytes 0): its size is that of the text.
         const std::uint64_t bytes = i.format == "analytic" ? require_regular_file(path) : i.file_bytes;
+        if (json) {
+            json_text += (first ? "[" : ",\n ") + json_object(path, i, bytes);
+            first = false;
+            continue;
+        }
         if (!first) std::printf("\n");
         first = false;
         std::printf("file: %s\n", path.c_str());
@@ -74,6 +109,7 @@ int run_info(const std::vector<std::string>& args) {
         if (!i.channels.is_rgb()) std::printf("wavelengths (nm): %s\n", i.channels.describe().c_str());
         for (const auto& [key, value] : i.details) std::printf("%s: %s\n", key.c_str(), value.c_str());
     }
+    if (json) std::printf("%s]\n", json_text.c_str());
     return 0;
 }
 

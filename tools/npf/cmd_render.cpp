@@ -83,7 +83,7 @@ std::string describe_channels(const Channels& c) {
 
 int run_render(const std::vector<std::string>& args) {
     CommandLine cl("render", args, kFlags);
-    if (cl.has("--help") || cl.positional().size() != 1 || !cl.has("-o")) {
+    if (cl.has("--help")) {
         std::printf("usage: npf render MATERIAL -o OUT.exr [--env MAP.exr] [--png OUT.png] [--size N|WxH] [--spp N]\n"
                     "                  [--seed S] [--scene sphere] [--threads N] [--wavelengths LIST] [--exposure E]\n"
                     "                  [--sampling mis|brdf|env] [--quiet]\n\n"
@@ -96,8 +96,10 @@ int run_render(const std::vector<std::string>& args) {
                     "numbers. docs/render.md has the conventions. Example:\n"
                     "  npf render brushed_copper.yaml -o copper.exr --png copper.png --spp 256\n\n%s",
                     usage_lines(kFlags).c_str());
-        return cl.has("--help") ? 0 : 2;
+        return 0;
     }
+    cl.expect_positional(1, 1, "one MATERIAL");
+    cl.require("-o");
     const std::string material_path = cl.positional()[0], output = cl.value("-o");
     const std::string png = cl.value("--png");
     if (cl.has("--png") && png.empty()) throw Error("--png", "needs a file name");

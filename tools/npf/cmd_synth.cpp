@@ -66,15 +66,18 @@ double number_flag(const std::string& flag, const std::string& v) {
 
 int run_synth(const std::vector<std::string>& args) {
     CommandLine cl("synth", args, kFlags);
-    if (cl.has("--help") || !cl.positional().empty() || args.empty()) {
+    if (cl.has("--help")) {
         std::printf("usage: npf synth -o OUT.bsdf [--recipe FILE.yaml] [material flags] [grid flags]\n\n"
                     "Writes an RGL .bsdf file (readable by every RGL reader) from an analytic material.\n"
                     "Flags override the recipe. Example, an anisotropic spectral copper with a faint\n"
                     "diffuse term:\n"
                     "  npf synth -o copper.bsdf --conductor Cu --alpha 0.08,0.35 --diffuse 0.02\n\n%s",
                     usage_lines(kFlags).c_str());
-        return cl.has("--help") ? 0 : 2;
+        return 0;
     }
+    cl.expect_positional(0, 0, "no FILE arguments (options only)");
+    // Nothing at all is a usage error; a missing -o is found once the recipe is read.
+    if (args.empty()) throw UsageError("missing -o OUT.bsdf and the material (flags or --recipe)");
 
     MaterialRecipe recipe;
     recipe.writer.channels = Channels::spectral({});

@@ -1,16 +1,23 @@
 #include "command_line.h"
 
-#include <npf/core/error.h>
+#include <cctype>
 
 namespace npf::cli {
 
-CommandLine::CommandLine(const std::string& command, const std::vector<std::string>& args,
+CommandLine::CommandLine(const std::string& /*command*/, const std::vector<std::string>& args,
                          const std::vector<FlagSpec>& flags) {
+    bool options_ended = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
-        // "-" alone is a positional (standard input); "--name=value" is accepted too.
-        if (a.size() < 2 || a[0] != '-' || (a[1] != '-' && !std::isalpha(static_cast<unsigned char>(a[1])))) {
+        // "-" alone is a positional (standard input), so is anything after "--" (a file named
+        // "-x.bsdf"); "--name=value" is accepted too.
+        if (options_ended || a.size() < 2 || a[0] != '-' ||
+            (a[1] != '-' && !std::isalpha(static_cast<unsigned char>(a[1])))) {
             m_positional.push_back(a);
+            continue;
+        }
+        if (a == "--") {
+            options_ended = true;
             continue;
         }
         std::string name = a, inline_value;
@@ -24,19 +31,22 @@ CommandLine::CommandLine(const std::string& command, const std::vector<std::stri
         for (const FlagSpec& f : flags) {
             if (f.name == name) spec = &f;
         }
-        if (!spec) throw Error("", "unknown option '" + name + "' (see npf " + command + " --help)");
+        if (!spec && a == "--version") throw VersionRequest{};
+        if (!spec) throw UsageError("unknown option '" + name + "'", kOptionErrorStatus);
+        std::string value;
         if (spec->takes_value) {
             if (has_inline) {
-                m_values[name] = inline_value;
+                value = inline_value;
             } else if (i + 1 < args.size()) {
-                m_values[name] = args[++i];
+                value = args[++i];
             } else {
-                throw Error(name, "needs a value");
+                throw UsageError(name + ": needs a value", kOptionErrorStatus);
             }
-        } else {
-            if (has_inline) throw Error(name, "takes no value");
-            m_values[name] = "";
+        } else if (has_inline) {
+            throw UsageError(name + ": takes no value", kOptionErrorStatus);
         }
+        m_values[name] = value;
+        m_ordered.emplace_back(name, value);
     }
 }
 
@@ -45,9 +55,23 @@ std::string CommandLine::value(const std::string& flag, const std::string& fallb
     return it == m_values.end() ? fallback : it->second;
 }
 
+void CommandLine::expect_positional(std::size_t min, std::size_t max, const std::string& what) const {
+    const std::size_t n = m_positional.size();
+    if (n >= min && n <= max) return;
+    if (n == 0) throw UsageError("expects " + what + ", got none");
+    throw UsageError("expects " + what + ", got " + std::to_string(n) + " argument" + (n == 1 ? "" : "s"));
+}
+
+void CommandLine::require(const std::string& flag) const {
+    if (!has(flag)) throw UsageError("missing " + flag + ", which is required");
+}
+
 std::string usage_lines(const std::vector<FlagSpec>& flags) {
+    std::vector<FlagSpec> all = flags;
+    all.push_back({"--version", false, "print the versions of npf and its libraries"});
+    all.push_back({"--", false, "end of options: what follows is a file, even '-x.bsdf'"});
     std::string out;
-    for (const FlagSpec& f : flags) {
+    for (const FlagSpec& f : all) {
         std::string left = "  " + f.name + (f.takes_value ? " VALUE" : "");
         if (left.size() < 24) left.resize(24, ' ');
         out += left + " " + f.help + "\n";

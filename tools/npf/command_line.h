@@ -1,9 +1,16 @@
 // A small, strict command-line parser for the npf subcommands: flags and positional
 // arguments, unknown flags are errors, values are checked where they are read.
+//
+// Conventions every subcommand gets from here (README "Exit status"): "--" ends the options,
+// "--version" prints the versions, and usage errors are thrown as UsageError, which main
+// reports as one line "npf CMD: error: WHAT (see npf CMD --help)" on stderr.
 #pragma once
 
+#include <cstddef>
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace npf::cli {
@@ -14,21 +21,51 @@ struct FlagSpec {
     std::string help;
 };
 
+// Exit status of a usage error: a wrong argument count or a missing required flag.
+inline constexpr int kUsageStatus = 2;
+// Exit status of an option the parser refuses (unknown, value missing, value on a switch): 1,
+// as for any other wrong input (a bad value, a bad file), which scripts of every command rely
+// on; 2 is for what is missing (README "Exit status").
+inline constexpr int kOptionErrorStatus = 1;
+
+class UsageError : public std::runtime_error {
+public:
+    explicit UsageError(const std::string& what, int status = kUsageStatus)
+        : std::runtime_error(what), m_status(status) {}
+    int status() const noexcept { return m_status; }
+
+private:
+    int m_status;
+};
+
+// Thrown by the parser on "--version" (before "--"): main prints the versions and exits 0.
+struct VersionRequest {};
+
 class CommandLine {
 public:
-    // Throws npf::Error (source = the subcommand) for unknown flags or missing values.
+    // Throws UsageError for unknown flags or missing values, VersionRequest for --version.
     CommandLine(const std::string& command, const std::vector<std::string>& args,
                 const std::vector<FlagSpec>& flags);
 
     bool has(const std::string& flag) const { return m_values.count(flag) > 0; }
+    // The last value given for `flag`.
     std::string value(const std::string& flag, const std::string& fallback = "") const;
     const std::vector<std::string>& positional() const { return m_positional; }
+    // Every flag with its value ("" for switches) in command-line order, repeats included.
+    const std::vector<std::pair<std::string, std::string>>& flags_in_order() const { return m_ordered; }
+
+    // Usage errors, checked after --help: between `min` and `max` positional arguments
+    // (`what` names them: "one FILE"), and a flag that must be given.
+    void expect_positional(std::size_t min, std::size_t max, const std::string& what) const;
+    void require(const std::string& flag) const;
 
 private:
     std::map<std::string, std::string> m_values;
+    std::vector<std::pair<std::string, std::string>> m_ordered;
     std::vector<std::string> m_positional;
 };
 
+// The flag table for --help, with the options every command takes (--version, --) after it.
 std::string usage_lines(const std::vector<FlagSpec>& flags);
 
 }  // namespace npf::cli

@@ -1,5 +1,6 @@
 // The npf subcommands. Each takes its arguments (after the subcommand name) and returns the
-// process exit status; user errors are thrown as npf::Error and reported by main.
+// process exit status; user errors are thrown as npf::Error (exit 1), usage errors as
+// UsageError (command_line.h, exit 2), and reported by main.
 #pragma once
 
 #include <string>

@@ -1,4 +1,5 @@
 // npf: convert, inspect and evaluate measured BRDFs. One command, one subcommand per task.
+#include "command_line.h"
 #include "commands.h"
 
 #include <npf/core/error.h>
@@ -8,6 +9,28 @@
 #include <exception>
 #include <string>
 #include <vector>
+
+// The library versions npf was built with, where a header says so cheaply (yaml-cpp has no
+// version macro). The tool target does not always see these headers: each is optional.
+#if __has_include(<OpenImageIO/oiioversion.h>)
+#include <OpenImageIO/oiioversion.h>
+#endif
+#if __has_include(<OpenEXR/OpenEXRConfig.h>)
+#include <OpenEXR/OpenEXRConfig.h>
+#endif
+#if __has_include(<OpenColorIO/OpenColorABI.h>)
+#include <OpenColorIO/OpenColorABI.h>
+#endif
+#if __has_include(<Eigen/src/Core/util/Macros.h>)
+#include <Eigen/src/Core/util/Macros.h>
+#elif __has_include(<eigen3/Eigen/src/Core/util/Macros.h>)
+#include <eigen3/Eigen/src/Core/util/Macros.h>
+#endif
+
+// Set for this target by tools/npf/CMakeLists.txt (the project version).
+#ifndef NPF_VERSION_STRING
+#define NPF_VERSION_STRING "unknown"
+#endif
 
 namespace {
 
@@ -34,7 +57,31 @@ const Subcommand kSubcommands[] = {
 void print_usage(std::FILE* to) {
     std::fprintf(to, "usage: npf <command> [options]\n\ncommands:\n");
     for (const Subcommand& s : kSubcommands) std::fprintf(to, "  %-8s %s\n", s.name, s.summary);
-    std::fprintf(to, "\n'npf <command> --help' describes a command.\n");
+    std::fprintf(to, "\n'npf <command> --help' describes a command; 'npf --version' prints the versions.\n");
+}
+
+#define NPF_STR2(x) #x
+#define NPF_STR(x) NPF_STR2(x)
+
+void print_version() {
+    std::string libraries;
+    const auto add = [&](const char* name, const std::string& version) {
+        libraries += (libraries.empty() ? "built with " : ", ") + std::string(name) + " " + version;
+    };
+#ifdef OIIO_VERSION_STRING
+    add("OpenImageIO", OIIO_VERSION_STRING);
+#endif
+#ifdef OPENEXR_VERSION_STRING
+    add("OpenEXR", OPENEXR_VERSION_STRING);
+#endif
+#ifdef OCIO_VERSION_STR
+    add("OpenColorIO", OCIO_VERSION_STR);
+#endif
+#ifdef EIGEN_WORLD_VERSION
+    add("Eigen", NPF_STR(EIGEN_WORLD_VERSION) "." NPF_STR(EIGEN_MAJOR_VERSION) "." NPF_STR(EIGEN_MINOR_VERSION));
+#endif
+    std::printf("npf %s\n", NPF_VERSION_STRING);
+    if (!libraries.empty()) std::printf("%s\n", libraries.c_str());
 }
 
 }  // namespace
@@ -44,12 +91,30 @@ int main(int argc, char** argv) {
         print_usage(argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : 0;
     }
+    if (!std::strcmp(argv[1], "--version")) {
+        print_version();
+        return 0;
+    }
     const std::string name = argv[1];
     std::vector<std::string> args(argv + 2, argv + argc);
     for (const Subcommand& s : kSubcommands) {
         if (name != s.name) continue;
         try {
             return s.run(args);
+        } catch (const npf::cli::VersionRequest&) {
+            print_version();
+            return 0;
+        } catch (const npf::cli::UsageError& e) {
+            std::fprintf(stderr, "npf %s: error: %s (see npf %s --help)\n", s.name, e.what(), s.name);
+            // A bare command also shows its usage on stdout, as --help does (scripts and
+            // tests rely on that); the error line above says what was missing.
+            if (args.empty()) {
+                try {
+                    s.run({"--help"});
+                } catch (const std::exception&) {
+                }
+            }
+            return e.status();
         } catch (const npf::Error& e) {
             std::fprintf(stderr, "npf %s: error: %s\n", s.name, e.what());
             return 1;
