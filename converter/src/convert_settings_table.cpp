@@ -52,54 +52,44 @@ std::string grid_text(const DetailGrid& g, char separator) {
 }
 
 // Row makers: the common kinds in one line each.
-Row whole(std::string key, std::vector<Range> ranges, std::string help) {
+Row row_of(std::string key, SettingKind kind, std::string help) {
     Row r;
     r.key = std::move(key);
-    r.kind = SettingKind::Whole;
+    r.kind = kind;
+    r.help = std::move(help);
+    return r;
+}
+
+Row whole(std::string key, std::vector<Range> ranges, std::string help) {
+    Row r = row_of(std::move(key), SettingKind::Whole, std::move(help));
     r.least_parts = r.most_parts = ranges.size();
     r.ranges = std::move(ranges);
-    r.help = std::move(help);
     return r;
 }
 
 Row number(std::string key, std::size_t least_parts, std::size_t most_parts, std::vector<Range> ranges, std::string range_problem,
            std::string help) {
-    Row r;
-    r.key = std::move(key);
-    r.kind = SettingKind::Number;
+    Row r = row_of(std::move(key), SettingKind::Number, std::move(help));
     r.least_parts = least_parts;
     r.most_parts = most_parts;
     r.ranges = std::move(ranges);
     r.range_problem = std::move(range_problem);
-    r.help = std::move(help);
     return r;
 }
 
 Row choice(std::string key, std::vector<std::string> choices, std::string help) {
-    Row r;
-    r.key = std::move(key);
-    r.kind = SettingKind::Choice;
+    Row r = row_of(std::move(key), SettingKind::Choice, std::move(help));
     r.choices = std::move(choices);
-    r.help = std::move(help);
     return r;
 }
 
 Row text(std::string key, std::function<void(const std::string&, const std::string&)> check, std::string help) {
-    Row r;
-    r.key = std::move(key);
-    r.kind = SettingKind::Text;
+    Row r = row_of(std::move(key), SettingKind::Text, std::move(help));
     r.check = std::move(check);
-    r.help = std::move(help);
     return r;
 }
 
-Row switched(std::string key, std::string help) {
-    Row r;
-    r.key = std::move(key);
-    r.kind = SettingKind::Switch;
-    r.help = std::move(help);
-    return r;
-}
+Row switched(std::string key, std::string help) { return row_of(std::move(key), SettingKind::Switch, std::move(help)); }
 
 // An Always row: its place in the version 1 hash text.
 Row hashed(Row r, int order) {
