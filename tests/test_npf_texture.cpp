@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -23,10 +24,13 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
+#include <memory>
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -539,6 +543,25 @@ TEST(NpfTextureBadInput, DamagedContents) {
                     "npf:d_singular_values is not a list of numbers");
     expect_rejected(damaged("isotropic_flag.exr", [&](auto& p) { find_raw(p, "D")->spec.attribute("npf:isotropic", 1); }),
                     "npf:isotropic disagrees");
+}
+
+// The same model gives the same bytes, whenever it is written: no time stamp (OpenImageIO
+// stamps the time of writing as capDate unless told otherwise; docs/format.md).
+TEST(NpfTextureWriter, NoTimeStampTheSameModelGivesTheSameBytes) {
+    const std::string dir = npf::testing::temporary_folder("npf-texture-no-stamp");
+    const NpfModel m = make_model({false, 3, false, 1});
+    const auto bytes_of = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    };
+    npf::write_npf_texture(m, dir + "/a.exr");
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // another second of the clock
+    npf::write_npf_texture(m, dir + "/b.exr");
+    EXPECT_EQ(bytes_of(dir + "/a.exr"), bytes_of(dir + "/b.exr"));
+    EXPECT_EQ(bytes_of(dir + "/a.exr").find("capDate"), std::string::npos);
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(dir + "/a.exr");
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().find_attribute("DateTime"), nullptr);
 }
 
 // ---- Writing failures ------------------------------------------------------------------------

@@ -183,44 +183,6 @@ void move_into_place(const std::string& from, const std::string& to) {
     publish_staged_file(from, to);
 }
 
-// OpenImageIO stamps every part of an OpenEXR file it writes with the time of writing (the
-// capDate attribute, "YYYY:MM:DD HH:MM:SS"), which would make two conversions of the same
-// material differ in those bytes. The batch pins it to the input file's modification time (UTC),
-// in place: same length, so nothing else in the file moves. Throws npf::Error.
-void pin_capture_date(const std::string& path, const std::string& input) {
-    struct stat st {};
-    if (::stat(input.c_str(), &st) != 0) throw Error(input, std::string("cannot stat: ") + std::strerror(errno));
-    std::tm t{};
-    const std::time_t when = st.st_mtime;
-    ::gmtime_r(&when, &t);
-    char stamp[80];
-    std::snprintf(stamp, sizeof stamp, "%04d:%02d:%02d %02d:%02d:%02d", t.tm_year + 1900, t.tm_mon + 1, t.tm_mday, t.tm_hour,
-                  t.tm_min, t.tm_sec);
-    std::FILE* f = std::fopen(path.c_str(), "r+b");
-    if (!f) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
-    std::string bytes;
-    char buffer[65536];
-    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes.append(buffer, n);
-    static const std::string tag("capDate\0string\0\x13\0\0\0", 19);
-    const auto is_stamp = [&](std::size_t at) {
-        if (at + 19 > bytes.size()) return false;
-        for (std::size_t i = 0; i < 19; ++i) {
-            const char c = bytes[at + i];
-            const bool ok = (i == 4 || i == 7 || i == 13 || i == 16) ? c == ':' : i == 10 ? c == ' ' : (c >= '0' && c <= '9');
-            if (!ok) return false;
-        }
-        return true;
-    };
-    bool ok = true;
-    for (std::size_t at = bytes.find(tag); at != std::string::npos; at = bytes.find(tag, at + 1)) {
-        const std::size_t value = at + tag.size();
-        if (!is_stamp(value)) continue;
-        ok = ok && std::fseek(f, long(value), SEEK_SET) == 0 && std::fwrite(stamp, 1, 19, f) == 19;
-    }
-    ok = std::fclose(f) == 0 && ok;
-    if (!ok) throw Error(path, "cannot set the capture date");
-}
-
 std::string shard_tag(const Shard& s) { return "shard-" + std::to_string(s.index) + "-of-" + std::to_string(s.count); }
 
 std::string render_file(const MaterialJob& job, const char* kind) {
@@ -384,8 +346,7 @@ MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
             model.metadata.emplace_back(npf_exr::kMetaBatchName, job.name);
             model.metadata.emplace_back(npf_exr::kMetaBatchSettings, canonical_settings(job.settings));
             model.metadata.emplace_back(npf_exr::kMetaBatchHash, r.hash);
-            write_npf_texture(model, final_stage);
-            pin_capture_date(final_stage, job.input);
+            write_npf_texture(model, final_stage);  // no time stamp: the bytes are the content's
             output = ctx.publish(final_stage, job.output);
             if (rep.fit.invalid_values > 0) r.reason = std::to_string(rep.fit.invalid_values) + " invalid source values ignored";
             r.status = MaterialStatus::Converted;
