@@ -50,9 +50,9 @@ PartData make_part(const char* name, int width, int height, const std::vector<st
     p.spec.attribute("oiio:subimagename", name);
     p.spec.attribute("compression", "zip");
     // No time stamp: the same model gives the same bytes (batches skip by content, golden tests
-    // compare bytes). OpenImageIO 2.4 stamps the time of writing as capDate unless a DateTime is
-    // given, and leaves out a DateTime that is not a string; so an int keeps the stamp out.
-    p.spec.attribute("DateTime", 0);
+    // compare bytes). OpenImageIO 2.4 stamps the time of writing as capDate unless given a
+    // DateTime; an empty one is written as an empty capDate: "no date".
+    p.spec.attribute("DateTime", "");
     p.pixels.assign(std::size_t(width) * std::size_t(height) * channels.size(), 0.f);
     return p;
 }
