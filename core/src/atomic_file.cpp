@@ -290,10 +290,11 @@ void AtomicOutput::commit() {
 }
 
 void publish_staged_file(const std::string& staged, const std::string& path) {
-    const int in = ::open(staged.c_str(), O_RDONLY | O_CLOEXEC);
-    if (in < 0) throw Error(staged, "cannot read the finished file: " + system_message(errno));
+    // First what may throw: nothing between open() and close() below does, so `in` never leaks.
     AtomicOutput out(path);
     std::vector<char> buffer(1 << 20);
+    const int in = ::open(staged.c_str(), O_RDONLY | O_CLOEXEC);
+    if (in < 0) throw Error(staged, "cannot read the finished file: " + system_message(errno));
     int error = 0;
     for (std::uint64_t offset = 0;;) {
         const ssize_t n = ::read(in, buffer.data(), buffer.size());
