@@ -4,7 +4,7 @@
 # batch configurations. usage: make_seeds.sh NPF SOURCE_DIR OUT_DIR
 set -euo pipefail
 npf=$1 src=$2 out=$3
-mkdir -p "$out"/{rgl,merl,npf_exr,batch_config}
+mkdir -p "$out"/{rgl,merl,npf_exr,npf_parts,batch_config}
 small=(--theta 3 --ndf 8 --ndf-rows 4 --vndf 8 --data 4 --threads 1 --quiet)
 "$npf" synth -o "$out/rgl/plastic_rgb.bsdf" --recipe "$src/configs/materials/red_plastic.yaml" --wavelengths rgb "${small[@]}" > /dev/null
 "$npf" synth -o "$out/rgl/copper_aniso.bsdf" --recipe "$src/configs/materials/brushed_copper.yaml" --wavelengths 400:700:3 \

@@ -4,6 +4,8 @@
 #include <npf/shading/npf_texture_file.h>
 #include <npf/shading/npf_texture_layout.h>
 
+#include "npf_texture_parts.h"
+
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
 #include <npf/core/openexr_header.h>
@@ -43,22 +45,8 @@ constexpr int kMaxChannelCount = 1 << 16;
 
 std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
-// One part of the open file.
-struct Part {
-    int subimage = -1;
-    ImageSpec spec;
-};
-
-// Where the parts come from: the file itself (ImageInput) or a TextureSystem's cache, so that a
-// renderer that shades through the TextureSystem opens the file once, through the same cache.
-class PartSource {
-public:
-    virtual ~PartSource() = default;
-    // Every part's header, in file order. Throws npf::Error naming the file.
-    virtual std::vector<Part> parts() = 0;
-    // All channels of a part as float, interleaved; false with `why` on failure.
-    virtual bool read(const Part& p, float* pixels, std::string& why) = 0;
-};
+using Part = NpfTexturePart;
+using PartSource = NpfTexturePartSource;
 
 class FileSource final : public PartSource {
 public:
@@ -510,6 +498,12 @@ NpfModel read_with(const std::string& path, std::unique_ptr<PartSource> source) 
         }
     }
     check_openexr_header(path, kMaxPartPixels);
+    return read_npf_texture_parts(path, std::move(source));
+}
+
+}  // namespace
+
+NpfModel read_npf_texture_parts(const std::string& path, std::unique_ptr<NpfTexturePartSource> source) {
     try {
         return Reader(path, std::move(source)).read();
     } catch (const Error&) {
@@ -518,8 +512,6 @@ NpfModel read_with(const std::string& path, std::unique_ptr<PartSource> source) 
         throw Error(path, std::string("cannot read: ") + e.what());
     }
 }
-
-}  // namespace
 
 NpfModel read_npf_texture(const std::string& path) { return read_with(path, std::make_unique<FileSource>(path)); }
 

@@ -1,0 +1,39 @@
+// The factor texture reader's seam between OpenEXR and npf's own checks (private to the
+// library and its fuzz target): the parts of an open file as OpenImageIO describes them, and the
+// reader that turns them into an NpfModel. The file (ImageInput) and a TextureSystem's cache are
+// the two sources read_npf_texture uses; fuzz/fuzz_npf_parts.cpp feeds it parts made in memory,
+// so that every check after OpenEXR is fuzzed at the speed of the checks themselves.
+#pragma once
+
+#include <npf/shading/npf_model.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace npf {
+
+// One part of the open file.
+struct NpfTexturePart {
+    int subimage = -1;
+    OIIO::ImageSpec spec;
+};
+
+// Where the parts come from.
+class NpfTexturePartSource {
+public:
+    virtual ~NpfTexturePartSource() = default;
+    // Every part's header, in file order. Throws npf::Error naming the file.
+    virtual std::vector<NpfTexturePart> parts() = 0;
+    // All channels of a part as float, interleaved, width x height x nchannels values into
+    // `pixels`; false with `why` on failure.
+    virtual bool read(const NpfTexturePart& p, float* pixels, std::string& why) = 0;
+};
+
+// Every check of docs/format.md sec. 8 over the parts `source` gives, naming `path` in the
+// npf::Error it throws (also for a std::exception a source lets out).
+NpfModel read_npf_texture_parts(const std::string& path, std::unique_ptr<NpfTexturePartSource> source);
+
+}  // namespace npf
