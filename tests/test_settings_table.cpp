@@ -97,6 +97,10 @@ ConvertSettingsTable table_with_a_new_row() {
     row.help = "samples per detail cell and axis";
     row.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.samples_per_cell = int(v.numbers[0]); };
     row.read = [](const ConvertSettings& s) { return std::to_string(s.detail.samples_per_cell); };
+    row.metadata_order = 10;  // after the fit's settings
+    row.metadata = [](const ConvertSettings& s) {
+        return std::vector<std::pair<std::string, std::string>>{{"fit_detail_samples", std::to_string(s.detail.samples_per_cell)}};
+    };
     table.push_back(row);
     return table;
 }
@@ -127,6 +131,54 @@ TEST(SettingsTable, ANewSettingIsOneRow) {
     EXPECT_EQ(convert_settings_hash_text(unchanged, true, table), kProductionIsotropicHashText);
     EXPECT_EQ(convert_settings_hash_text(changed, true, table),
               convert_settings_hash_text(changed, true) + "detail_samples=5\n");
+    // And in the factor texture's metadata, after the fit's settings.
+    auto lines = convert_settings_metadata(changed, 1, 11);
+    lines.insert(lines.begin() + 11, {"fit_detail_samples", "5"});  // after fit_g_pin, before error_pairs
+    EXPECT_EQ(convert_settings_metadata(changed, 1, 11, table), lines);
+}
+
+// convert.cpp's metadata lines of the settings before the table, kept as the reference.
+std::string six(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
+}
+std::vector<std::pair<std::string, std::string>> legacy_metadata(const ConvertSettings& s) {
+    const AwlsOptions& o = s.fit;
+    const RusinkiewiczGrid& g = o.grid;
+    std::vector<std::pair<std::string, std::string>> m;
+    m.emplace_back("preset", convert_preset_name(s.preset));
+    m.emplace_back("fit_grid", std::to_string(g.theta_h) + "x" + std::to_string(g.phi_h) + "x" + std::to_string(g.theta_d) + "x" +
+                                   std::to_string(g.phi_d));
+    m.emplace_back("fit_phi_d_samples", std::to_string(o.phi_d_samples > 0 ? o.phi_d_samples : g.phi_d));
+    m.emplace_back("fit_volume_weight", o.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle");
+    m.emplace_back("fit_importance_power", o.importance_power_view == o.importance_power_light
+                                               ? six(o.importance_power_view)
+                                               : six(o.importance_power_view) + "," + six(o.importance_power_light));
+    m.emplace_back("fit_compressive_power", six(o.compressive_power));
+    m.emplace_back("fit_compressive_epsilon", six(o.compressive_epsilon));
+    m.emplace_back("fit_max_iterations", std::to_string(o.max_iterations));
+    m.emplace_back("fit_tolerance", six(o.tolerance));
+    m.emplace_back("fit_acceleration", o.acceleration == AwlsOptions::Acceleration::Anderson     ? "anderson"
+                                        : o.acceleration == AwlsOptions::Acceleration::LineSearch ? "line-search"
+                                                                                                   : "none");
+    m.emplace_back("fit_g_pin", six(o.g_pin));
+    if (s.error_pairs > 0) m.emplace_back("error_pairs", std::to_string(s.error_pairs));
+    return m;
+}
+
+TEST(SettingsTable, MetadataLinesAreThoseBeforeTheTable) {
+    for (ConvertPreset preset : {ConvertPreset::Preview, ConvertPreset::Production, ConvertPreset::Fine, ConvertPreset::Paper}) {
+        for (bool isotropic : {true, false}) {
+            ConvertSettings s = preset_settings(preset, isotropic);
+            EXPECT_EQ(convert_settings_metadata(s, 1, 11), legacy_metadata(s)) << convert_preset_name(preset);
+            s.fit.importance_power_light = 2.5;
+            s.fit.acceleration = AwlsOptions::Acceleration::Anderson;
+            s.fit.phi_d_samples = 0;
+            s.error_pairs = 0;
+            EXPECT_EQ(convert_settings_metadata(s, 1, 11), legacy_metadata(s)) << convert_preset_name(preset);
+        }
+    }
 }
 
 struct Candidate {

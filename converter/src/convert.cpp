@@ -1,8 +1,10 @@
 #include <npf/converter/convert.h>
+#include <npf/converter/convert_settings_table.h>
 
 #include <npf/shading/npf_texture_file.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
+#include <npf/core/text.h>
 #include <npf/shading/npf_texture_layout.h>
 #include <npf/shading/npf_brdf.h>
 #include <npf/shading/npf_model.h>
@@ -30,11 +32,6 @@ double peak_memory_gib() {
     return double(u.ru_maxrss) / (1024.0 * 1024.0);  // ru_maxrss is in KiB on Linux
 }
 
-std::string text(double v) {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.6g", v);
-    return buffer;
-}
 
 Channels choose_channels(const Brdf& source, const ConvertSettings& s) {
     const Channels stored = source.info().channels;
@@ -141,7 +138,7 @@ double parse_target_psnr(const std::string& text, const std::string& what) {
 }
 
 void check_target_psnr(double db, const std::string& what) {
-    if (!(std::isfinite(db) && db > 0.0)) throw Error(what, "a target PSNR must be a finite number of dB above 0, got " + text(db));
+    if (!(std::isfinite(db) && db > 0.0)) throw Error(what, "a target PSNR must be a finite number of dB above 0, got " + six_digits(db));
 }
 
 std::vector<DetailGrid> default_target_ladder() {
@@ -253,7 +250,7 @@ EnergyCheck energy_check(const NpfModel& model, int threads) {
     EnergyCheck e;
     const NpfBrdf check(model);
     AlbedoTableOptions a;
-    a.theta_deg = {0, 30, 60, 75, 85, 89};
+    a.theta_deg = albedo_bound_check_thetas();
     a.estimator.samples = 32;
     a.threads = threads;
     for (const AlbedoRow& row : directional_albedo_table(check, check.native_query(), a)) {
@@ -387,43 +384,33 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
         worst_weighted = std::max(worst_weighted, report.fit.relative_error[c]);
         most_iterations = std::max(most_iterations, report.fit.iterations[c]);
     }
-    const RusinkiewiczGrid& g = o.grid;
     auto& m = model.metadata;
     m.emplace_back("source", info.path.empty() ? "(in memory: " + info.format + ")" : info.path);
     m.emplace_back("source_format", info.format);
     if (!info.description.empty()) m.emplace_back("source_description", info.description);
-    m.emplace_back("preset", convert_preset_name(settings.preset));
-    m.emplace_back("fit_grid", std::to_string(g.theta_h) + "x" + std::to_string(g.phi_h) + "x" + std::to_string(g.theta_d) + "x" +
-                                   std::to_string(g.phi_d));
-    m.emplace_back("fit_phi_d_samples", std::to_string(o.phi_d_samples > 0 ? o.phi_d_samples : g.phi_d));
+    // The settings as fitted (after isotropy) from their table rows, the results between them.
+    ConvertSettings fitted = settings;
+    fitted.fit = o;
+    auto settings_lines = [&](int first, int last) {
+        for (auto& line : convert_settings_metadata(fitted, first, last)) m.push_back(std::move(line));
+    };
+    settings_lines(1, 3);
     m.emplace_back("fit_samples", std::to_string(report.fit.samples));
-    m.emplace_back("fit_volume_weight", o.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle");
-    // One value when symmetric (as before the split), else "view,light".
-    m.emplace_back("fit_importance_power", o.importance_power_view == o.importance_power_light
-                                               ? text(o.importance_power_view)
-                                               : text(o.importance_power_view) + "," + text(o.importance_power_light));
-    m.emplace_back("fit_compressive_power", text(o.compressive_power));
-    m.emplace_back("fit_compressive_epsilon", text(o.compressive_epsilon));
-    m.emplace_back("fit_max_iterations", std::to_string(o.max_iterations));
-    m.emplace_back("fit_tolerance", text(o.tolerance));
-    m.emplace_back("fit_acceleration", o.acceleration == AwlsOptions::Acceleration::Anderson     ? "anderson"
-                                        : o.acceleration == AwlsOptions::Acceleration::LineSearch ? "line-search"
-                                                                                                   : "none");
-    m.emplace_back("fit_g_pin", text(o.g_pin));
+    settings_lines(4, 10);
     m.emplace_back("fit_iterations", std::to_string(most_iterations));
-    m.emplace_back("fit_weighted_error_max", text(worst_weighted));
+    m.emplace_back("fit_weighted_error_max", six_digits(worst_weighted));
     m.emplace_back("fit_invalid_values", std::to_string(report.fit.invalid_values));
+    settings_lines(11, 11);
     if (settings.error_pairs > 0) {
-        m.emplace_back("error_pairs", std::to_string(settings.error_pairs));
-        m.emplace_back("error_fitted_rel_rms_mean", text(report.fitted_error.mean_relative_rms));
-        m.emplace_back("error_fitted_rel_rms_max", text(report.fitted_error.max_relative_rms));
-        m.emplace_back("error_rel_rms_mean", text(report.compressed_error.mean_relative_rms));
-        m.emplace_back("error_rel_rms_max", text(report.compressed_error.max_relative_rms));
+        m.emplace_back("error_fitted_rel_rms_mean", six_digits(report.fitted_error.mean_relative_rms));
+        m.emplace_back("error_fitted_rel_rms_max", six_digits(report.fitted_error.max_relative_rms));
+        m.emplace_back("error_rel_rms_mean", six_digits(report.compressed_error.mean_relative_rms));
+        m.emplace_back("error_rel_rms_max", six_digits(report.compressed_error.max_relative_rms));
     }
     m.emplace_back("horizon_closed", settings.close_horizon ? std::to_string(report.horizon_columns_closed) + " columns" : "no");
     if (report.detail_not_kept) {
-        m.emplace_back("detail_not_kept", "BRDF-space relative RMS " + text(report.detailed_error.mean_relative_rms) +
-                                              " with it, " + text(report.compressed_error.mean_relative_rms) + " without");
+        m.emplace_back("detail_not_kept", "BRDF-space relative RMS " + six_digits(report.detailed_error.mean_relative_rms) +
+                                              " with it, " + six_digits(report.compressed_error.mean_relative_rms) + " without");
     }
     if (report.has_detail) {
         const DetailGrid& dg = model.detail_grid;
@@ -431,47 +418,47 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
         m.emplace_back("detail_grid", std::to_string(dg.theta_h) + "x" + std::to_string(dg.theta_d) + "x" +
                                           std::to_string(dg.phi_d));
         m.emplace_back("detail_samples_per_cell", std::to_string(d.samples_per_cell));
-        m.emplace_back("detail_display_power", text(d.display_power));
-        m.emplace_back("detail_energy_weight", text(d.energy_weight));
+        m.emplace_back("detail_display_power", six_digits(d.display_power));
+        m.emplace_back("detail_energy_weight", six_digits(d.energy_weight));
         m.emplace_back("detail_rank", std::to_string(model.detail.rank));
-        m.emplace_back("detail_weighted_error_before", text(report.detail.weighted_error_before));
-        m.emplace_back("detail_weighted_error_after", text(report.detail.weighted_error_after));
-        m.emplace_back("detail_energy_error_before", text(report.detail.energy_error_before));
-        m.emplace_back("detail_energy_error_after", text(report.detail.energy_error_after));
+        m.emplace_back("detail_weighted_error_before", six_digits(report.detail.weighted_error_before));
+        m.emplace_back("detail_weighted_error_after", six_digits(report.detail.weighted_error_after));
+        m.emplace_back("detail_energy_error_before", six_digits(report.detail.energy_error_before));
+        m.emplace_back("detail_energy_error_after", six_digits(report.detail.energy_error_after));
         if (settings.error_pairs > 0) {
-            m.emplace_back("error_detailed_rel_rms_mean", text(report.detailed_error.mean_relative_rms));
-            m.emplace_back("error_detailed_rel_rms_max", text(report.detailed_error.max_relative_rms));
+            m.emplace_back("error_detailed_rel_rms_mean", six_digits(report.detailed_error.mean_relative_rms));
+            m.emplace_back("error_detailed_rel_rms_max", six_digits(report.detailed_error.max_relative_rms));
         }
     }
-    m.emplace_back(npf_exr::kMetaAlbedoMax, text(report.albedo_max));
-    m.emplace_back(npf_exr::kMetaAlbedoMaxViewTheta, text(report.albedo_max_theta_deg));
+    m.emplace_back(npf_exr::kMetaAlbedoMax, six_digits(report.albedo_max));
+    m.emplace_back(npf_exr::kMetaAlbedoMaxViewTheta, six_digits(report.albedo_max_theta_deg));
     {
         std::string views;
-        for (double v : energy_error_views_deg()) views += (views.empty() ? "" : ",") + text(v);
-        m.emplace_back("energy_error", text(report.energy_error));
-        m.emplace_back("energy_error_view_theta", text(report.energy_error_theta_deg));
+        for (double v : energy_error_views_deg()) views += (views.empty() ? "" : ",") + six_digits(v);
+        m.emplace_back("energy_error", six_digits(report.energy_error));
+        m.emplace_back("energy_error_view_theta", six_digits(report.energy_error_theta_deg));
         m.emplace_back("energy_error_channel", report.channels.name(report.energy_error_channel));
         m.emplace_back("energy_error_views", views);
     }
     // The file's own size is not known before it is written; the source's is.
     if (report.input_bytes > 0) m.emplace_back("source_bytes", std::to_string(report.input_bytes));
     if (report.predicted) {
-        m.emplace_back("predicted_psnr", text(report.prediction.psnr));
-        if (report.prediction.floor_psnr != 0.0) m.emplace_back("predicted_psnr_floor", text(report.prediction.floor_psnr));
+        m.emplace_back("predicted_psnr", six_digits(report.prediction.psnr));
+        if (report.prediction.floor_psnr != 0.0) m.emplace_back("predicted_psnr_floor", six_digits(report.prediction.floor_psnr));
         m.emplace_back("predicted_psnr_render", report.prediction_settings);
     }
     if (target) {
         std::string tried;
         for (const ConvertReport::TargetCandidate& c : report.target_candidates) {
-            tried += (tried.empty() ? "" : " ") + grid_text(c.grid) + ":" + text(c.psnr);
+            tried += (tried.empty() ? "" : " ") + grid_text(c.grid) + ":" + six_digits(c.psnr);
         }
-        m.emplace_back("target_psnr", text(settings.target_psnr));
+        m.emplace_back("target_psnr", six_digits(settings.target_psnr));
         m.emplace_back("target_psnr_met", report.target_met ? "true" : "false");
-        m.emplace_back("target_psnr_reached", text(report.prediction.psnr));
+        m.emplace_back("target_psnr_reached", six_digits(report.prediction.psnr));
         m.emplace_back("target_psnr_candidates", tried);
     }
-    m.emplace_back("pca_d_ratio_requested", text(compression.d_ratio));
-    m.emplace_back("pca_g_ratio_requested", text(compression.g_ratio));
+    m.emplace_back("pca_d_ratio_requested", six_digits(compression.d_ratio));
+    m.emplace_back("pca_g_ratio_requested", six_digits(compression.g_ratio));
 
     t = Clock::now();
     report.output_bytes = write_npf_texture(model, output);

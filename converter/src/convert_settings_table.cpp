@@ -2,6 +2,7 @@
 
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
+#include <npf/core/text.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -15,6 +16,7 @@ namespace npf {
 namespace {
 
 using Row = ConvertSettingRow;
+using Lines = std::vector<std::pair<std::string, std::string>>;
 using Range = ConvertSettingRow::Range;
 constexpr double kAny = std::numeric_limits<double>::infinity();
 
@@ -112,6 +114,8 @@ ConvertSettingsTable make_table() {
                       "preview, production (default), fine or paper (the paper's pure model; docs/fitting.md)"), 0);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.preset = parse_convert_preset(v.text, "preset"); };
     r.read = [](const ConvertSettings& s) { return std::string(convert_preset_name(s.preset)); };
+    r.metadata_order = 1;
+    r.metadata = [](const ConvertSettings& s) { return Lines{{"preset", convert_preset_name(s.preset)}}; };
     t.push_back(r);
 
     r = hashed(text("wavelengths", [](const std::string& v, const std::string& what) { parse_channel_list(v, what); },
@@ -145,6 +149,12 @@ ConvertSettingsTable make_table() {
         const RusinkiewiczGrid& g = s.fit.grid;
         return std::to_string(g.theta_h) + "," + std::to_string(g.phi_h) + "," + std::to_string(g.theta_d) + "," + std::to_string(g.phi_d);
     };
+    r.metadata_order = 2;
+    r.metadata = [](const ConvertSettings& s) {
+        const RusinkiewiczGrid& g = s.fit.grid;
+        return Lines{{"fit_grid", std::to_string(g.theta_h) + "x" + std::to_string(g.phi_h) + "x" + std::to_string(g.theta_d) +
+                                      "x" + std::to_string(g.phi_d)}};
+    };
     t.push_back(r);
 
     r = hashed(whole("g_grid", {grid_axis, phi_axis}, "G table THETA,PHI"), 2);
@@ -159,6 +169,10 @@ ConvertSettingsTable make_table() {
     r = hashed(whole("phi_d_samples", {{0, 4096}}, "phi_d samples per ring (0: every grid cell)"), 3);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.phi_d_samples = int(v.numbers[0]); };
     r.read = [](const ConvertSettings& s) { return std::to_string(s.fit.phi_d_samples); };
+    r.metadata_order = 3;  // the samples per ring the fit took
+    r.metadata = [](const ConvertSettings& s) {
+        return Lines{{"fit_phi_d_samples", std::to_string(s.fit.phi_d_samples > 0 ? s.fit.phi_d_samples : s.fit.grid.phi_d)}};
+    };
     t.push_back(r);
 
     // Asking for compression compresses RGB too (ConvertSettings::compress_rgb).
@@ -201,16 +215,27 @@ ConvertSettingsTable make_table() {
         return g17(o.importance_power_view) +
                (o.importance_power_light != o.importance_power_view ? "," + g17(o.importance_power_light) : std::string());
     };
+    r.metadata_order = 5;  // one value when symmetric (as before the split), else "view,light"
+    r.metadata = [](const ConvertSettings& s) {
+        const AwlsOptions& o = s.fit;
+        return Lines{{"fit_importance_power", o.importance_power_view == o.importance_power_light
+                                                  ? six_digits(o.importance_power_view)
+                                                  : six_digits(o.importance_power_view) + "," + six_digits(o.importance_power_light)}};
+    };
     t.push_back(r);
 
     r = hashed(number("compressive", 1, 1, {}, "", "w_C power q: (rho + eps)^-q"), 6);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.compressive_power = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.fit.compressive_power); };
+    r.metadata_order = 6;
+    r.metadata = [](const ConvertSettings& s) { return Lines{{"fit_compressive_power", six_digits(s.fit.compressive_power)}}; };
     t.push_back(r);
 
     r = hashed(number("epsilon", 1, 1, {{0, kAny, true}}, "must be positive", "w_C epsilon (1/sr)"), 7);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.compressive_epsilon = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.fit.compressive_epsilon); };
+    r.metadata_order = 7;
+    r.metadata = [](const ConvertSettings& s) { return Lines{{"fit_compressive_epsilon", six_digits(s.fit.compressive_epsilon)}}; };
     t.push_back(r);
 
     r = hashed(choice("volume_weight", {"paper", "three-angle"}, "paper (default) or three-angle (Bagher et al.)"), 4);
@@ -218,17 +243,25 @@ ConvertSettingsTable make_table() {
         s.fit.volume_weight = v.text == "paper" ? VolumeWeight::Paper : VolumeWeight::ThreeAngle;
     };
     r.read = [](const ConvertSettings& s) { return std::string(s.fit.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle"); };
+    r.metadata_order = 4;
+    r.metadata = [](const ConvertSettings& s) {
+        return Lines{{"fit_volume_weight", s.fit.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle"}};
+    };
     t.push_back(r);
 
     r = hashed(whole("iterations", {{1, 100000}}, "most AWLS sweeps per block of channels"), 10);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.max_iterations = int(v.numbers[0]); };
     r.read = [](const ConvertSettings& s) { return std::to_string(s.fit.max_iterations); };
+    r.metadata_order = 8;
+    r.metadata = [](const ConvertSettings& s) { return Lines{{"fit_max_iterations", std::to_string(s.fit.max_iterations)}}; };
     t.push_back(r);
 
     r = hashed(number("tolerance", 1, 1, {{0, kAny}}, "must not be negative",
                       "stop when a sweep lowers the weighted error by less than this, relative"), 11);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.tolerance = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.fit.tolerance); };
+    r.metadata_order = 9;
+    r.metadata = [](const ConvertSettings& s) { return Lines{{"fit_tolerance", six_digits(s.fit.tolerance)}}; };
     t.push_back(r);
 
     r = hashed(choice("g_prior", {"smith", "smith-start", "bounded", "free"},
@@ -254,6 +287,14 @@ ConvertSettingsTable make_table() {
     };
     r.hash_lines = [](const ConvertSettings& s) {
         return "acceleration=" + std::to_string(int(s.fit.acceleration)) + "\ng_pin=" + g17(s.fit.g_pin) + "\n";
+    };
+    r.metadata_order = 10;
+    r.metadata = [](const ConvertSettings& s) {
+        const AwlsOptions::Acceleration a = s.fit.acceleration;
+        return Lines{{"fit_acceleration", a == AwlsOptions::Acceleration::Anderson     ? "anderson"
+                                          : a == AwlsOptions::Acceleration::LineSearch ? "line-search"
+                                                                                       : "none"},
+                     {"fit_g_pin", six_digits(s.fit.g_pin)}};
     };
     t.push_back(r);
 
@@ -300,6 +341,10 @@ ConvertSettingsTable make_table() {
     r = hashed(whole("error_pairs", {{0, 100000000}}, "direction pairs of the BRDF-space error (0 skips it)"), 17);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.error_pairs = int(v.numbers[0]); };
     r.read = [](const ConvertSettings& s) { return std::to_string(s.error_pairs); };
+    r.metadata_order = 11;  // only when measured (its results follow it)
+    r.metadata = [](const ConvertSettings& s) {
+        return s.error_pairs > 0 ? Lines{{"error_pairs", std::to_string(s.error_pairs)}} : Lines{};
+    };
     t.push_back(r);
 
     // Not in the hash: content hash version 1 left it out, and adding it would redo every
@@ -477,6 +522,20 @@ std::string convert_settings_hash_text(const ConvertSettings& s, bool isotropic,
         if (value != row.read(preset)) t += row.key + "=" + value + "\n";
     }
     return t;
+}
+
+std::vector<std::pair<std::string, std::string>> convert_settings_metadata(const ConvertSettings& fitted, int first, int last,
+                                                                          const ConvertSettingsTable& table) {
+    std::vector<const Row*> rows;
+    for (const Row& r : table) {
+        if (r.metadata && r.metadata_order >= first && r.metadata_order <= last) rows.push_back(&r);
+    }
+    std::stable_sort(rows.begin(), rows.end(), [](const Row* a, const Row* b) { return a->metadata_order < b->metadata_order; });
+    Lines lines;
+    for (const Row* r : rows) {
+        for (auto& line : r->metadata(fitted)) lines.push_back(std::move(line));
+    }
+    return lines;
 }
 
 }  // namespace npf

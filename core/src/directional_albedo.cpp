@@ -109,6 +109,8 @@ std::vector<double> directional_albedo(const Brdf& brdf, const Vec3& wi, const C
 
 std::vector<double> default_albedo_thetas() { return {0, 10, 20, 30, 40, 50, 60, 70, 80, 85, 87, 89}; }
 
+std::vector<double> albedo_bound_check_thetas() { return {0, 30, 60, 75, 85, 89}; }
+
 std::vector<double> default_albedo_azimuths(bool isotropic) {
     if (isotropic) return {0.0};
     std::vector<double> phi;

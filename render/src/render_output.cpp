@@ -15,16 +15,10 @@ namespace npf::render {
 
 namespace {
 
-std::string number(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.6g", v);
-    return b;
-}
-
 std::string wavelengths_text(const Channels& c) {
     if (c.is_rgb()) return "rgb";
     std::string s;
-    for (float l : c.wavelengths()) s += (s.empty() ? "" : ",") + number(l);
+    for (float l : c.wavelengths()) s += (s.empty() ? "" : ",") + six_digits(l);
     return s;
 }
 
@@ -49,7 +43,7 @@ RenderMetadata describe_render(const RenderResult& result, const RenderOptions& 
                                    : options.sampling == Sampling::Brdf ? "BSDF only"
                                                                         : "environment only");
     m.emplace_back("npf:threads", std::to_string(result.stats.threads));
-    m.emplace_back("npf:render_seconds", number(result.stats.seconds));
+    m.emplace_back("npf:render_seconds", six_digits(result.stats.seconds));
     m.emplace_back("npf:envmap", environment.source());
     m.emplace_back("npf:envmap_size", std::to_string(environment.width()) + "x" + std::to_string(environment.height()));
     m.emplace_back("npf:envmap_clamped_values", std::to_string(environment.clamped_values()));

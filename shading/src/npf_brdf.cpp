@@ -1,5 +1,7 @@
 #include <npf/shading/npf_brdf.h>
 
+#include <npf/core/text.h>
+
 #include <npf/shading/npf_texture_file.h>
 
 #include <npf/core/error.h>
@@ -20,9 +22,8 @@ std::string grid_text(int a, int b, const char* axes) {
 }
 
 std::string rank_text(const SpectralBasis& s, std::size_t channels) {
-    char kept[64];
-    std::snprintf(kept, sizeof kept, "%.6g", 100.0 * s.kept_ratio);
-    return std::to_string(s.rank) + " of " + std::to_string(std::min(s.cells, channels)) + " (keeps " + kept +
+    return std::to_string(s.rank) + " of " + std::to_string(std::min(s.cells, channels)) + " (keeps " +
+           six_digits(100.0 * s.kept_ratio) +
            " % of the squared singular values)";
 }
 

@@ -9,6 +9,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace npf {
@@ -62,6 +63,11 @@ struct ConvertSettingRow {
     std::function<std::string(const ConvertSettings&)> read;
     // Always rows whose hash lines are not "key=read\n" (content hash version 1's own names).
     std::function<std::string(const ConvertSettings&)> hash_lines;
+    // Its lines in a factor texture's metadata (npf:meta:KEY = VALUE) from the settings as
+    // fitted (after isotropy), in `metadata_order` among the rows (convert_settings_metadata);
+    // none where empty or where it gives none.
+    int metadata_order = 0;
+    std::function<std::vector<std::pair<std::string, std::string>>(const ConvertSettings&)> metadata;
 };
 
 using ConvertSettingsTable = std::vector<ConvertSettingRow>;
@@ -92,5 +98,11 @@ ConvertSettings resolve_convert_settings(const ConvertSettingsTable& table,
 // (docs/batch.md); `isotropic`: the fitted factors' (WhenChanged rows compare with that preset).
 std::string convert_settings_hash_text(const ConvertSettings& settings, bool isotropic,
                                        const ConvertSettingsTable& table = convert_settings_table());
+
+// The metadata lines of the rows whose metadata_order is in [first, last], in that order
+// (convert_material writes its results between such runs: the file's order of keys is its
+// bytes).
+std::vector<std::pair<std::string, std::string>> convert_settings_metadata(
+    const ConvertSettings& fitted, int first, int last, const ConvertSettingsTable& table = convert_settings_table());
 
 }  // namespace npf

@@ -38,8 +38,12 @@ std::vector<double> directional_albedo(const Brdf& brdf, const Vec3& wi, const C
                                        std::vector<double>* standard_error = nullptr);
 
 // The view angles of the table by default (degrees): dense towards grazing, where conversions
-// and measurements disagree most.
+// and measurements disagree most. npf albedo and npf edit's check after each step measure here.
 std::vector<double> default_albedo_thetas();
+// The quick bound check npf convert runs after every fit (at 32 x 32 cells per strategy): six
+// views from normal to almost grazing, where a fit gains light. Kept apart from the default so
+// that conversions keep their bytes (the result is in the file's metadata).
+std::vector<double> albedo_bound_check_thetas();
 // Azimuths (degrees) for a material: {0} when isotropic, else kAnisotropicAlbedoAzimuths evenly
 // spread over the full circle (0, 90, 180, 270): measured files need not be symmetric.
 constexpr int kAnisotropicAlbedoAzimuths = 4;

@@ -1,6 +1,7 @@
-// Small text helpers shared by the libraries' error messages.
+// Small text helpers shared by the libraries' messages and metadata.
 #pragma once
 
+#include <cstdio>
 #include <string>
 
 namespace npf {
@@ -10,6 +11,14 @@ namespace npf {
 inline std::string first_line(const std::string& s) {
     const std::size_t nl = s.find('\n');
     return nl == std::string::npos ? s : s.substr(0, nl);
+}
+
+// A number as "%.6g" writes it: the precision of the metadata and reports that people read
+// (factor textures' npf:meta:* values are in this form; changing it changes their bytes).
+inline std::string six_digits(double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.6g", v);
+    return buffer;
 }
 
 }  // namespace npf
