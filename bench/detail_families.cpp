@@ -38,7 +38,6 @@
 //
 // The work folder caches the base conversion and the raw render of each material.
 #include "detail_system.h"
-#include "parallel.h"
 
 #include <npf/color/display_image.h>
 #include <npf/converter/convert.h>
@@ -47,6 +46,7 @@
 #include <npf/converter/open_material.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
+#include <npf/core/parallel.h>
 #include <npf/render/default_environment.h>
 #include <npf/render/environment_map.h>
 #include <npf/render/image_metrics.h>
@@ -69,7 +69,6 @@
 #include <random>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace {
@@ -136,14 +135,14 @@ public:
     void reconstruct(const double* a, const double* b, const double* c, double* r) const {
         const Eigen::Index K = Eigen::Index(m_k), n1 = m_n[1], n2 = m_n[2];
         const MapC B(b, n1, K), C(c, n2, K);
-        npf::fit_detail::parallel_slices(std::size_t(m_n[0]), m_threads, [&](int, std::size_t begin, std::size_t end) {
+        npf::parallel_slices(std::size_t(m_n[0]), std::size_t(m_threads), [&](std::size_t, std::size_t begin, std::size_t end) {
             Mat scaled(n1, K);
             for (std::size_t i = begin; i < end; ++i) {
                 const Eigen::Map<const Eigen::RowVectorXd> ai(a + i * m_k, K);
                 scaled = B.array().rowwise() * ai.array();
                 Map(r + i * std::size_t(n1 * n2), n1, n2).noalias() = scaled * C.transpose();
             }
-        });
+        }, m_threads);
     }
 
     // G[n_mode][K] = the gradient of <Y, R> with respect to factor `mode` (the other two fixed):
@@ -154,7 +153,7 @@ public:
         const MapC B(b, n1, K), C(c, n2, K);
         // Per theta_h slice i a partial result (modes 1 and 2), summed in slice order afterwards.
         std::vector<double> partial(mode == 0 ? 0 : n0 * nm * m_k, 0.0);
-        npf::fit_detail::parallel_slices(n0, m_threads, [&](int, std::size_t begin, std::size_t end) {
+        npf::parallel_slices(n0, std::size_t(m_threads), [&](std::size_t, std::size_t begin, std::size_t end) {
             Mat t(n1, K);
             for (std::size_t i = begin; i < end; ++i) {
                 const MapC yi(y + i * std::size_t(n1 * n2), n1, n2);
@@ -171,7 +170,7 @@ public:
                     Map(partial.data() + i * nm * m_k, n1, K) = t.array().rowwise() * ai.array();
                 }
             }
-        });
+        }, m_threads);
         if (mode == 0) return;
         std::fill(g, g + nm * m_k, 0.0);
         for (std::size_t i = 0; i < n0; ++i) {
@@ -197,7 +196,7 @@ public:
             for (std::size_t v = 0; v < no2; ++v)
                 for (Eigen::Index k = 0; k < K; ++k)
                     kr(Eigen::Index(u * no2 + v), k) = f[o1][u * m_k + std::size_t(k)] * f[o2][v * m_k + std::size_t(k)];
-        npf::fit_detail::parallel_slices(nm, m_threads, [&](int, std::size_t begin, std::size_t end) {
+        npf::parallel_slices(nm, std::size_t(m_threads), [&](std::size_t, std::size_t begin, std::size_t end) {
             Mat weighted(kr.rows(), K);
             for (std::size_t r = begin; r < end; ++r) {
                 for (std::size_t u = 0; u < no1; ++u) {
@@ -212,7 +211,7 @@ public:
                 }
                 Map(out.data() + r * m_k * m_k, K, K).noalias() = kr.transpose() * weighted;
             }
-        });
+        }, m_threads);
         (void)n0;
     }
 
@@ -233,7 +232,7 @@ void apply_parallel(const fd::NormalOperator& op, const std::vector<double>& x, 
     const double* s = op.stencil->data();
     const std::int32_t* nb = op.neighbour->data();
     const std::size_t S = std::size_t(fd::kDetailStencil);
-    npf::fit_detail::parallel_slices(op.cells, threads, [&](int, std::size_t begin, std::size_t end) {
+    npf::parallel_slices(op.cells, std::size_t(threads), [&](std::size_t, std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
             double v = 0.0;
             for (std::size_t k = 0; k < S; ++k) {
@@ -242,7 +241,7 @@ void apply_parallel(const fd::NormalOperator& op, const std::vector<double>& x, 
             }
             y[i] = v;
         }
-    });
+    }, threads);
     for (std::size_t v = 0; v < op.rows->size(); ++v) {
         if (!(op.row_weight[v] > 0.0)) continue;
         const std::vector<double>& a = (*op.rows)[v];
@@ -841,7 +840,7 @@ void cp_rows(const Material& mat, const Settings& s, int threads, std::FILE* tsv
     std::vector<double> free_objective(C);
     std::vector<int> free_iterations(C, 0);
     // Channels in parallel, each on one thread (as the fitter runs its weight groups).
-    npf::fit_detail::parallel_slices(C, threads, [&](int, std::size_t begin, std::size_t end) {
+    npf::parallel_slices(C, std::size_t(threads), [&](std::size_t, std::size_t begin, std::size_t end) {
         for (std::size_t c = begin; c < end; ++c) {
             const fd::NormalOperator op = fd::NormalOperator::of(sys, c);
             free_iterations[c] = fd::solve(op, sys.rhs[c], free_solution[c], o.max_iterations, o.tolerance);
@@ -849,7 +848,7 @@ void cp_rows(const Material& mat, const Settings& s, int threads, std::FILE* tsv
             op.apply(free_solution[c], ax);
             free_objective[c] = dot(free_solution[c], ax) - 2.0 * dot(sys.rhs[c], free_solution[c]);
         }
-    });
+    }, threads);
     const double free_seconds = seconds_since(t);
     std::printf("%s: cp knot grid %s: %zu samples, assembly %.1f s; unconstrained solve %.1f s (%d CG iterations)\n",
                 mat.name().c_str(), grid_text(s.cp_tables).c_str(), sys.samples_valid, assembly_seconds, free_seconds,
@@ -889,7 +888,7 @@ void cp_rows(const Material& mat, const Settings& s, int threads, std::FILE* tsv
         std::vector<double> albedo(sys.albedo_base), shares(C, 1.0), errors(C, 0.0);
         std::vector<int> sweeps(C, 0);
         std::vector<float> knot_values(C * sys.cells);  // the stored products on the knot grid, for the check below
-        npf::fit_detail::parallel_slices(C, threads, [&](int, std::size_t begin, std::size_t end) {
+        npf::parallel_slices(C, std::size_t(threads), [&](std::size_t, std::size_t begin, std::size_t end) {
             for (std::size_t c = begin; c < end; ++c) {
                 CpFactors cp = unweighted_cp(free_solution[c], ker, s.cp_init_iterations,
                                              1234u + unsigned(c) * 7919u + unsigned(rank));
@@ -905,7 +904,7 @@ void cp_rows(const Material& mat, const Settings& s, int threads, std::FILE* tsv
                 for (std::size_t i = 0; i < sys.cells; ++i) knot_values[c * sys.cells + i] = float(r[i]);
                 errors[c] = weighted_error(sys, c, r);
             }
-        });
+        }, threads);
         double share = 0.0, error = 0.0;
         for (std::size_t c = 0; c < C; ++c) {
             share += shares[c] / double(C);
@@ -998,7 +997,7 @@ int main(int argc, char** argv) try {
                      "       [--trace 0|1] [--threads N] [--size N] [--spp N] [--tsv FILE]\n");
         return 2;
     }
-    const int threads = s.threads > 0 ? s.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = npf::thread_count(s.threads);
     std::filesystem::create_directories(s.work);
     std::FILE* tsv = s.tsv.empty() ? nullptr : std::fopen(s.tsv.c_str(), "a");
     if (!s.tsv.empty() && !tsv) throw npf::Error(s.tsv, "cannot open for appending");

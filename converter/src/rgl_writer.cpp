@@ -7,17 +7,14 @@
 #include <npf/converter/tensor_file.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/core/parallel.h>
 #include <npf/core/rec709_luminance.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <exception>
 #include <iterator>
 #include <cmath>
-#include <mutex>
 #include <random>
-#include <thread>
 
 namespace npf {
 
@@ -43,34 +40,6 @@ Vec3 lifted(const Vec3& w) {
     const float r = std::sqrt(std::max(0.f, 1.f - kHorizonLift * kHorizonLift));
     const float h = std::sqrt(w.x * w.x + w.y * w.y);
     return h > 0.f ? Vec3(w.x / h * r, w.y / h * r, kHorizonLift) : Vec3(0.f, 0.f, 1.f);
-}
-
-// Runs body(i) for i in [0, count) on `threads` threads (the caller's among them); the caller
-// reports progress after each item it finishes, so no thread only waits.
-template <typename Body>
-void parallel_for(std::size_t count, int threads, const std::function<void(double)>& progress, Body body) {
-    std::atomic<std::size_t> next{0}, done{0};
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
-    auto worker = [&](bool reports) {
-        for (std::size_t i; (i = next++) < count;) {
-            try {
-                body(i);
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(failure_mutex);
-                if (!failure) failure = std::current_exception();
-                next = count;
-            }
-            const std::size_t finished = ++done;
-            if (reports && progress) progress(double(finished) / double(count));
-        }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(worker, false);
-    worker(true);
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
-    if (progress) progress(1.0);
 }
 
 // Luminance of one evaluation's channel values: Rec. 709 weights for RGB, CIE Y weights
@@ -250,7 +219,7 @@ RglWriteReport write_rgl(const Brdf& source, const std::string& path, const RglW
     check_options(options, path);
     const ChannelQuery query = source.query(options.channels);
     const LuminanceWeights luminance(options.channels);
-    const int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = npf::thread_count(options.threads);
 
     RglWriteReport report;
     report.path = path;
@@ -300,11 +269,11 @@ RglWriteReport write_rgl(const Brdf& source, const std::string& path, const RglW
         if (!(normal > 0.0)) throw Error(path, "the normal distribution integrates to zero");
         const int sigma_rows = iso ? 1 : sigma_nodes.rows;
         std::vector<double> raw(std::size_t(sigma_rows) * sigma_nodes.cols);
-        parallel_for(raw.size(), threads, stage(0.03, 0.07), [&](std::size_t i) {
+        npf::parallel_for(raw.size(), [&](std::size_t i) {
             const int r = int(i) / sigma_nodes.cols, c = int(i) % sigma_nodes.cols;
             const Vec3 w = node_direction(sigma_nodes.u_theta(c), iso ? 0.5f : sigma_nodes.u_phi(r), 0.f);
             raw[i] = sigma(w);
-        });
+        }, threads, stage(0.03, 0.07));
         for (int r = 0; r < sigma_nodes.rows; ++r)
             for (int c = 0; c < sigma_nodes.cols; ++c)
                 sigma_nodes.values[std::size_t(r) * sigma_nodes.cols + c] =
@@ -356,7 +325,7 @@ RglWriteReport write_rgl(const Brdf& source, const std::string& path, const RglW
     const std::size_t V = std::size_t(options.vndf_size), S = std::size_t(options.data_size);
     std::vector<float> vndf_values(slices * V * V);
     auto slice_wi = [&](std::size_t slice) { return spherical_direction(theta_i[slice % nT], phi_i[slice / nT]); };
-    parallel_for(slices, threads, nullptr, [&](std::size_t slice) {
+    npf::parallel_for(slices, [&](std::size_t slice) {
         const Vec3 wi = slice_wi(slice);
         const float phi_offset = iso ? phi_i[slice / nT] : 0.f;
         const float s_i = sigma.eval({theta_to_u(theta_i[slice % nT]), phi_to_u(phi_i[slice / nT])}, SliceBlend());
@@ -376,14 +345,14 @@ RglWriteReport write_rgl(const Brdf& source, const std::string& path, const RglW
         // the warp defined where wi.m <= 0.
         const float floor = largest > 0.f ? 1e-7f * largest : 1.f;
         for (std::size_t k = 0; k < V * V; ++k) out[k] += floor;
-    });
+    }, threads);
     const PiecewiseLinear2D vndf(V, V, slices, vndf_values, true, path);
 
     // ---- W5: data and luminance. ----------------------------------------------------------
     const std::size_t C = query.size();
     std::vector<float> data(slices * C * S * S, 0.f), lum(slices * S * S, 0.f);
     std::vector<std::uint8_t> valid(slices * S * S, 0);
-    parallel_for(slices, threads, stage(0.1, 0.9), [&](std::size_t slice) {
+    npf::parallel_for(slices, [&](std::size_t slice) {
         const std::size_t p = slice / nT, t = slice % nT;
         const Vec3 wi = slice_wi(slice);
         const Vec3 wi_eval = lifted(wi);
@@ -421,7 +390,7 @@ RglWriteReport write_rgl(const Brdf& source, const std::string& path, const RglW
         const float largest = *std::max_element(l, l + S * S);
         for (std::size_t k = 0; k < S * S; ++k) l[k] = largest > 0.f ? std::max(l[k], 1e-4f * largest) : 1.f;
         (void)t;
-    });
+    }, threads, stage(0.1, 0.9));
 
     // ---- W6: the file. ---------------------------------------------------------------------
     TensorFileWriter writer;

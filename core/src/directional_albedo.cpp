@@ -1,16 +1,14 @@
 #include <npf/core/cosine_sampling.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
+#include <npf/core/parallel.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
-#include <exception>
 #include <string>
-#include <thread>
 
 namespace npf {
 
@@ -147,31 +145,9 @@ std::vector<AlbedoRow> directional_albedo_table(const Brdf& brdf, const ChannelQ
         row.albedo = directional_albedo(brdf, wi, query, options.estimator, &row.standard_error);
     };
 
-    unsigned threads = options.threads > 0 ? unsigned(options.threads) : std::thread::hardware_concurrency();
-    threads = std::max(1u, std::min<unsigned>(threads, unsigned(rows.size())));
-    if (threads == 1) {
-        for (AlbedoRow& row : rows) compute(row);
-        return rows;
-    }
-    // Whole directions per thread: each row is summed by one thread in a fixed order, so the
+    // Whole directions per item: each row is summed by one thread in a fixed order, so the
     // results are the same for any thread count.
-    std::atomic<std::size_t> next{0};
-    std::vector<std::exception_ptr> failures(threads);
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t) {
-        pool.emplace_back([&, t] {
-            try {
-                for (std::size_t k = next++; k < rows.size(); k = next++) compute(rows[k]);
-            } catch (...) {
-                failures[t] = std::current_exception();
-                next = rows.size();
-            }
-        });
-    }
-    for (std::thread& th : pool) th.join();
-    for (const std::exception_ptr& e : failures) {
-        if (e) std::rethrow_exception(e);
-    }
+    parallel_for(rows.size(), [&](std::size_t k) { compute(rows[k]); }, options.threads);
     return rows;
 }
 

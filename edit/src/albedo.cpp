@@ -1,11 +1,11 @@
 #include <npf/edit/albedo.h>
 
 #include <npf/core/error.h>
+#include <npf/core/parallel.h>
 #include <npf/shading/npf_equation.h>
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 #include <utility>
 
 namespace npf::edit {
@@ -53,17 +53,7 @@ AlbedoReport albedo_report(const NpfModel& model, const AlbedoOptions& options) 
         }
     }
     std::vector<std::vector<double>> albedo(dirs.size());
-    const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-    const std::size_t threads = std::min<std::size_t>(dirs.size(), options.threads > 0 ? std::size_t(options.threads) : hw);
-    auto work = [&](std::size_t first) {
-        for (std::size_t i = first; i < dirs.size(); i += std::max<std::size_t>(threads, 1)) {
-            albedo[i] = directional_albedo(model, dirs[i], options);
-        }
-    };
-    std::vector<std::thread> pool;
-    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(work, t);
-    work(0);
-    for (std::thread& th : pool) th.join();
+    parallel_for(dirs.size(), [&](std::size_t i) { albedo[i] = directional_albedo(model, dirs[i], options); }, options.threads);
     AlbedoReport r;
     bool first = true;
     for (std::size_t i = 0; i < dirs.size(); ++i) {

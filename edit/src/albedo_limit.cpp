@@ -4,13 +4,13 @@
 
 #include <npf/converter/convert.h>
 #include <npf/core/error.h>
+#include <npf/core/parallel.h>
 #include <npf/shading/npf_texture_layout.h>
 #include <npf/shading/npf_equation.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <thread>
+#include <functional>
 #include <vector>
 
 namespace npf::edit {
@@ -80,30 +80,21 @@ public:
         std::vector<Need> need(cells);
         std::vector<std::size_t> todo(cells);
         for (std::size_t cell = 0; cell < cells; ++cell) todo[cell] = cell;
-        const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-        const std::size_t max_threads = limit.threads > 0 ? std::size_t(limit.threads) : hw;
         double before = 0.0;
         std::size_t measured = 0, work = cells;  // for progress: the first pass, then an estimate
         for (int pass = 0; pass < limit.passes && !todo.empty(); ++pass) {
-            std::atomic<std::size_t> next{0};
             auto measure = [&](std::size_t i) {
                 const std::size_t cell = todo[i];
                 const int k = int(cell / std::size_t(m.g_phi)), j = int(cell % std::size_t(m.g_phi));
                 need[cell] = need_at(equation::theta_centre(k, m.g_theta), j);
             };
-            auto worker = [&] {
-                for (std::size_t i; (i = next.fetch_add(1)) < todo.size();) measure(i);
-            };
-            std::vector<std::thread> pool;
-            for (std::size_t t = 1; t < std::min(max_threads, todo.size()); ++t) pool.emplace_back(worker);
-            // The calling thread works too, and reports between its cells.
-            for (std::size_t i; (i = next.fetch_add(1)) < todo.size();) {
-                measure(i);
-                if (limit.progress) {
-                    limit.progress(std::min(1.0, double(measured + std::min(next.load(), todo.size())) / double(work)));
-                }
+            std::function<void(double)> progress;
+            if (limit.progress) {
+                progress = [&](double f) {
+                    limit.progress(std::min(1.0, (double(measured) + f * double(todo.size())) / double(work)));
+                };
             }
-            for (std::thread& t : pool) t.join();
+            parallel_for(todo.size(), measure, limit.threads, progress);
             measured += todo.size();
             if (pass == 0) {
                 for (const Need& n : need) before = std::max(before, n.largest);

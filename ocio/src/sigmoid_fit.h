@@ -44,7 +44,7 @@ class SigmoidTable {
 public:
     static constexpr int kResolution = 32;
 
-    // Fits every node; uses up to std::thread::hardware_concurrency() threads.
+    // Fits every node, on up to 16 threads (npf::parallel_for).
     SigmoidTable();
     // Trilinear interpolation; `rgb` in [0, 1]^3, not grey.
     SigmoidCoefficients lookup(const Rgb& rgb) const;

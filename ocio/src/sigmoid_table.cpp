@@ -1,11 +1,10 @@
 // The sigmoid coefficient table: built once at first use, on all cores, then only read.
 #include "sigmoid_fit.h"
 
+#include <npf/core/parallel.h>
+
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <system_error>
-#include <thread>
 
 namespace npf::color::detail {
 
@@ -26,23 +25,10 @@ SigmoidTable::SigmoidTable() : m_coefficients(std::size_t(3) * kN * kN * kN * 3)
     for (int k = 0; k < kN; ++k) m_z[k] = smoothstep(smoothstep(k / double(kN - 1)));
 
     // One task per (largest component, y node): each fits its x nodes along z. Tasks are
-    // independent, handed out through an atomic counter.
-    std::atomic<int> next{0};
-    auto work = [&] {
-        for (int task; (task = next.fetch_add(1)) < 3 * kN;)
-            for (int xi = 0; xi < kN; ++xi) fit_column(task / kN, task % kN, xi);
-    };
-    const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, 16u);
-    std::vector<std::thread> pool;
-    for (unsigned t = 1; t < threads; ++t) {
-        try {
-            pool.emplace_back(work);
-        } catch (const std::system_error&) {
-            break;  // no more threads: the ones we have (and this one) do the rest
-        }
-    }
-    work();
-    for (std::thread& t : pool) t.join();
+    // independent, and the table the same on any number of threads (at most 16).
+    npf::parallel_for(std::size_t(3 * kN), [&](std::size_t task) {
+        for (int xi = 0; xi < kN; ++xi) fit_column(int(task) / kN, int(task) % kN, xi);
+    }, std::min(npf::thread_count(0), 16));
     m_build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

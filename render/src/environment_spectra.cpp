@@ -1,7 +1,8 @@
 #include <npf/render/environment_spectra.h>
 
+#include <npf/core/parallel.h>
+
 #include <algorithm>
-#include <thread>
 
 namespace npf::render {
 
@@ -10,19 +11,14 @@ EnvironmentSpectra::EnvironmentSpectra(const EnvironmentMap& map, unsigned threa
     const std::size_t n = map.width() * map.height();
     m_spectra.resize(n);
     const std::vector<float>& px = map.pixels();
-    // Texels are independent, so the result does not depend on the thread count.
-    auto work = [&](std::size_t begin, std::size_t end) {
+    // Texels are independent, so the result does not depend on the split or the thread count.
+    // Small maps are not worth a thread; larger ones go in at most 64 runs of texels.
+    const int threads = npf::thread_count(int(threads_wanted));
+    const std::size_t slices = n < 65536 ? 1 : std::min<std::size_t>(std::size_t(threads), 64);
+    npf::parallel_slices(n, slices, [&](std::size_t, std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i)
             m_spectra[i] = color::RgbUnboundedSpectrum({double(px[i * 3]), double(px[i * 3 + 1]), double(px[i * 3 + 2])});
-    };
-    const unsigned hw = threads_wanted > 0 ? threads_wanted : std::max(1u, std::thread::hardware_concurrency());
-    const std::size_t threads = n < 65536 ? 1 : std::min<std::size_t>(hw, 64);
-    std::vector<std::thread> pool;
-    const std::size_t chunk = (n + threads - 1) / threads;
-    for (std::size_t t = 1; t < threads; ++t)
-        pool.emplace_back(work, std::min(n, t * chunk), std::min(n, (t + 1) * chunk));
-    work(0, std::min(n, chunk));
-    for (std::thread& t : pool) t.join();
+    }, threads);
 }
 
 }  // namespace npf::render

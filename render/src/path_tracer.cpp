@@ -1,6 +1,7 @@
 #include <npf/render/path_tracer.h>
 
 #include <npf/core/error.h>
+#include <npf/core/parallel.h>
 #include <npf/render/environment_spectra.h>
 #include <npf/render/render_channels.h>
 #include <npf/render/rng.h>
@@ -10,10 +11,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <memory>
 #include <mutex>
-#include <thread>
 #include <vector>
 
 namespace npf::render {
@@ -90,7 +89,7 @@ RenderResult render(const Brdf& material, const EnvironmentMap& environment, con
     const ChannelQuery query = material.query(rc.channels);  // once per render, never per sample
     const std::size_t n = query.size();
 
-    unsigned threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    unsigned threads = unsigned(npf::thread_count(int(options.threads)));
     threads = unsigned(std::min<std::size_t>(threads, options.height));
 
     const EnvironmentRadiance radiance(environment, rc, threads);
@@ -106,100 +105,85 @@ RenderResult render(const Brdf& material, const EnvironmentMap& environment, con
     result.image.channels = 4;
     result.image.pixels.assign(width * height * 4, 0.f);
 
-    std::atomic<std::size_t> next_row{0}, rows_done{0};
+    std::atomic<std::size_t> rows_done{0};
     std::atomic<std::uint64_t> hits{0}, dropped{0};
     std::mutex progress_mutex;
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
 
-    auto worker = [&]() {
-        try {
-            std::vector<float> f(n), weight(n), env(n);
-            std::vector<double> acc(n);
-            std::uint64_t my_hits = 0, my_dropped = 0;
-            for (std::size_t y; (y = next_row.fetch_add(1)) < height;) {
-                for (std::size_t x = 0; x < width; ++x) {
-                    const std::uint64_t pixel = std::uint64_t(y) * width + x;
-                    const PixelSampler sampler(options.seed, pixel, spp);
-                    std::fill(acc.begin(), acc.end(), 0.0);
-                    std::uint32_t covered = 0;
-                    for (std::uint32_t s = 0; s < spp; ++s) {
-                        const Vec2 jitter = sampler.get_2d(s, kDimPixel);
-                        const Vec2 u_env = sampler.get_2d(s, kDimEnvironment);
-                        const Vec2 u_brdf = sampler.get_2d(s, kDimBrdf);
-                        const Ray ray = scene.camera_ray(float(x) + jitter.x, float(y) + jitter.y);
-                        SphereHit hit;
-                        if (!SphereScene::intersect(ray, hit)) continue;
-                        ++covered;
-                        const Vec3 wi = hit.frame.to_local(-ray.direction);
-                        if (!(wi.z > 0.f)) continue;  // grazing at the silhouette: black
+    // One item per row: each pixel is computed by one thread, into its own slot.
+    npf::parallel_for(height, [&](std::size_t y) {
+        std::vector<float> f(n), weight(n), env(n);
+        std::vector<double> acc(n);
+        std::uint64_t row_hits = 0, row_dropped = 0;
+        for (std::size_t x = 0; x < width; ++x) {
+            const std::uint64_t pixel = std::uint64_t(y) * width + x;
+            const PixelSampler sampler(options.seed, pixel, spp);
+            std::fill(acc.begin(), acc.end(), 0.0);
+            std::uint32_t covered = 0;
+            for (std::uint32_t s = 0; s < spp; ++s) {
+                const Vec2 jitter = sampler.get_2d(s, kDimPixel);
+                const Vec2 u_env = sampler.get_2d(s, kDimEnvironment);
+                const Vec2 u_brdf = sampler.get_2d(s, kDimBrdf);
+                const Ray ray = scene.camera_ray(float(x) + jitter.x, float(y) + jitter.y);
+                SphereHit hit;
+                if (!SphereScene::intersect(ray, hit)) continue;
+                ++covered;
+                const Vec3 wi = hit.frame.to_local(-ray.direction);
+                if (!(wi.z > 0.f)) continue;  // grazing at the silhouette: black
 
-                        // Environment sample.
-                        EnvironmentSample es;
-                        if (use_env && environment.sample(u_env, es)) {
-                            const Vec3 wo = hit.frame.to_local(es.direction);
-                            if (wo.z > 0.f && radiance.eval(es.texel, n, env.data())) {
-                                material.eval_cos(wi, wo, query, f.data());
-                                const double mis = use_brdf ? power_heuristic(es.pdf, material.pdf(wi, wo)) : 1.0;
-                                const double w = mis / double(es.pdf);
-                                for (std::size_t k = 0; k < n; ++k) {
-                                    const double c = double(f[k]) * double(env[k]) * w;
-                                    if (std::isfinite(c)) acc[k] += c;
-                                    else ++my_dropped;
-                                }
-                            }
-                        }
-                        // BSDF sample.
-                        BrdfSample bs;
-                        if (use_brdf && material.sample(wi, u_brdf, query, bs, weight.data()) && bs.pdf > 0.f &&
-                            bs.wo.z > 0.f) {
-                            const Vec3 dir = normalize(hit.frame.to_world(bs.wo));
-                            const std::uint32_t texel = environment.texel(dir);
-                            if (radiance.eval(texel, n, env.data())) {
-                                const double w = use_env ? power_heuristic(bs.pdf, environment.pdf(dir, texel)) : 1.0;
-                                for (std::size_t k = 0; k < n; ++k) {
-                                    const double c = double(weight[k]) * double(env[k]) * w;
-                                    if (std::isfinite(c)) acc[k] += c;
-                                    else ++my_dropped;
-                                }
-                            }
+                // Environment sample.
+                EnvironmentSample es;
+                if (use_env && environment.sample(u_env, es)) {
+                    const Vec3 wo = hit.frame.to_local(es.direction);
+                    if (wo.z > 0.f && radiance.eval(es.texel, n, env.data())) {
+                        material.eval_cos(wi, wo, query, f.data());
+                        const double mis = use_brdf ? power_heuristic(es.pdf, material.pdf(wi, wo)) : 1.0;
+                        const double w = mis / double(es.pdf);
+                        for (std::size_t k = 0; k < n; ++k) {
+                            const double c = double(f[k]) * double(env[k]) * w;
+                            if (std::isfinite(c)) acc[k] += c;
+                            else ++row_dropped;
                         }
                     }
-                    my_hits += covered;
-                    float* out = &result.image.pixels[pixel * 4];
-                    const double inv = 1.0 / double(spp);
-                    if (rc.spectral()) {
-                        for (int c = 0; c < 3; ++c) {
-                            const std::vector<double>& w = rc.to_rgb[std::size_t(c)];
-                            double v = 0.0;
-                            for (std::size_t k = 0; k < n; ++k) v += w[k] * acc[k];
-                            out[c] = float(v * inv);
-                        }
-                    } else {
-                        for (int c = 0; c < 3; ++c) out[c] = float(acc[std::size_t(c)] * inv);
-                    }
-                    out[3] = float(double(covered) * inv);
                 }
-                const std::size_t done = rows_done.fetch_add(1) + 1;
-                if (progress) {
-                    const std::lock_guard<std::mutex> lock(progress_mutex);
-                    progress(double(done) / double(height));
+                // BSDF sample.
+                BrdfSample bs;
+                if (use_brdf && material.sample(wi, u_brdf, query, bs, weight.data()) && bs.pdf > 0.f &&
+                    bs.wo.z > 0.f) {
+                    const Vec3 dir = normalize(hit.frame.to_world(bs.wo));
+                    const std::uint32_t texel = environment.texel(dir);
+                    if (radiance.eval(texel, n, env.data())) {
+                        const double w = use_env ? power_heuristic(bs.pdf, environment.pdf(dir, texel)) : 1.0;
+                        for (std::size_t k = 0; k < n; ++k) {
+                            const double c = double(weight[k]) * double(env[k]) * w;
+                            if (std::isfinite(c)) acc[k] += c;
+                            else ++row_dropped;
+                        }
+                    }
                 }
             }
-            hits += my_hits;
-            dropped += my_dropped;
-        } catch (...) {
-            const std::lock_guard<std::mutex> lock(failure_mutex);
-            if (!failure) failure = std::current_exception();
-            next_row = height;  // the others stop after their current row
+            row_hits += covered;
+            float* out = &result.image.pixels[pixel * 4];
+            const double inv = 1.0 / double(spp);
+            if (rc.spectral()) {
+                for (int c = 0; c < 3; ++c) {
+                    const std::vector<double>& w = rc.to_rgb[std::size_t(c)];
+                    double v = 0.0;
+                    for (std::size_t k = 0; k < n; ++k) v += w[k] * acc[k];
+                    out[c] = float(v * inv);
+                }
+            } else {
+                for (int c = 0; c < 3; ++c) out[c] = float(acc[std::size_t(c)] * inv);
+            }
+            out[3] = float(double(covered) * inv);
         }
-    };
-
-    std::vector<std::thread> pool;
-    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
+        hits += row_hits;
+        dropped += row_dropped;
+        const std::size_t done = rows_done.fetch_add(1) + 1;
+        if (progress) {
+            const std::lock_guard<std::mutex> lock(progress_mutex);
+            progress(double(done) / double(height));
+        }
+    }, int(threads));
 
     result.stats.camera_samples = std::uint64_t(width) * height * spp;
     result.stats.hit_samples = hits;

@@ -5,11 +5,11 @@
 
 #include <npf/converter/convert_settings_table.h>
 #include <npf/core/error.h>
+#include <npf/core/parallel.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <thread>
 
 namespace npf {
 
@@ -111,7 +111,7 @@ NpfFactors fit_npf(const Brdf& source, const AwlsOptions& o, AwlsReport* report)
     const auto start = Clock::now();
     check_options(o);
     const std::size_t C = source.query(o.channels).size();  // throws when the source cannot give them
-    const int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = npf::thread_count(o.threads);
 
     AwlsReport r;
     auto t = Clock::now();

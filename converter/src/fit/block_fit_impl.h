@@ -2,8 +2,7 @@
 // loops run over the L lanes with no dependence between lanes, which the compiler vectorises.
 #pragma once
 
-#include "parallel.h"
-
+#include <npf/core/parallel.h>
 #include <npf/core/vec.h>
 
 #include <algorithm>
@@ -45,9 +44,7 @@ BlockFit<L>::BlockFit(const SampleSet& samples, const AwlsOptions& options, int 
 template <int L>
 template <typename Body>
 void BlockFit<L>::for_each_slice(Body body) const {
-    parallel_slices(std::size_t(kSlices), m_threads, [&](int, std::size_t b, std::size_t e) {
-        for (std::size_t slice = b; slice < e; ++slice) body(int(slice));
-    });
+    npf::parallel_for(std::size_t(kSlices), [&](std::size_t slice) { body(int(slice)); }, m_threads);
 }
 
 template <int L>
@@ -64,7 +61,8 @@ void BlockFit<L>::evaluate(const SampleSet& samples, const Brdf& source, const s
     const ChannelQuery query = source.query(blocks.size() == 1 ? blocks[0] : Channels::spectral(wavelengths));
     values.resize(blocks.size());
     for (std::vector<float>& v : values) v.resize(samples.size() * L);
-    parallel_slices(samples.size(), std::max(threads, 1), [&](int, std::size_t b, std::size_t e) {
+    const int slices = std::max(threads, 1);
+    npf::parallel_slices(samples.size(), std::size_t(slices), [&](std::size_t, std::size_t b, std::size_t e) {
         std::vector<float> v(query.size());
         for (std::size_t s = b; s < e; ++s) {
             const float* d = &samples.directions[6 * s];
@@ -74,14 +72,14 @@ void BlockFit<L>::evaluate(const SampleSet& samples, const Brdf& source, const s
                 for (int l = 0; l < L; ++l) out[l] = v[offset[k] + std::min(std::size_t(l), count[k] - 1)] / d[5];
             }
         }
-    });
+    }, slices);
 }
 
 template <int L>
 std::size_t BlockFit<L>::load(std::vector<float>&& values, std::size_t channels) {
     m_rho = std::move(values);
     std::vector<std::size_t> invalid(std::size_t(m_threads), 0);
-    parallel_slices(m_s.size(), m_threads, [&](int t, std::size_t b, std::size_t e) {
+    npf::parallel_slices(m_s.size(), invalid.size(), [&](std::size_t t, std::size_t b, std::size_t e) {
         for (std::size_t s = b; s < e; ++s) {
             float* rho = &m_rho[s * L];
             float* w = &m_w[s * L];
@@ -89,7 +87,7 @@ std::size_t BlockFit<L>::load(std::vector<float>&& values, std::size_t channels)
                 const float value = rho[l];
                 double weight = m_s.geometry[s];
                 if (!std::isfinite(value)) {
-                    if (std::size_t(l) < channels) ++invalid[std::size_t(t)];
+                    if (std::size_t(l) < channels) ++invalid[t];
                     rho[l] = 0.f;
                     w[l] = 0.f;
                     continue;
@@ -102,7 +100,7 @@ std::size_t BlockFit<L>::load(std::vector<float>&& values, std::size_t channels)
                 w[l] = float(weight);
             }
         }
-    });
+    }, m_threads);
     m_sw.fill(0.0);
     m_swr.fill(0.0);
     m_swrr.fill(0.0);
@@ -496,7 +494,7 @@ void BlockFit<L>::smith_g_from_d(BlockFactors<L>& f) const {
         for (int l = 0; l < L; ++l) area[std::size_t(l)] += c.z * c.solid_angle * f.D[c.index * L + std::size_t(l)];
     }
     std::vector<float> G(f.G.size());
-    parallel_slices(m_s.g_cells, m_threads, [&](int, std::size_t b, std::size_t e) {
+    npf::parallel_slices(m_s.g_cells, std::size_t(m_threads), [&](std::size_t, std::size_t b, std::size_t e) {
         for (std::size_t k = b; k < e; ++k) {
             const int row = int(k / std::size_t(m_o.g_phi)), col = int(k % std::size_t(m_o.g_phi));
             const double t = (row + 0.5) * 0.5 * kPiD / m_o.g_theta, p = m_o.g_phi == 1 ? 0.0 : (col + 0.5) * 2.0 * kPiD / m_o.g_phi;
@@ -514,7 +512,7 @@ void BlockFit<L>::smith_g_from_d(BlockFactors<L>& f) const {
                 G[k * L + std::size_t(l)] = projected > 0.0 ? float(wz / projected) : f.G[k * L + std::size_t(l)];
             }
         }
-    });
+    }, m_threads);
     f.G = std::move(G);
 }
 

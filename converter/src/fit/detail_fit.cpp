@@ -1,11 +1,11 @@
 #include <npf/converter/fit/detail_fit.h>
 
 #include "detail_system.h"
-#include "parallel.h"
 
 #include <npf/converter/fit/rusinkiewicz.h>
 #include <npf/converter/fit/spectral_compression.h>
 #include <npf/core/error.h>
+#include <npf/core/parallel.h>
 #include <npf/shading/npf_equation.h>
 
 #include <Imath/half.h>
@@ -15,7 +15,6 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
-#include <thread>
 
 namespace npf {
 
@@ -245,7 +244,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
     std::vector<float>& weight = sys.weight;
     std::vector<double> row_error(std::size_t(sh) * C, 0.0), row_norm(std::size_t(sh) * C, 0.0);
     std::vector<std::size_t> row_valid(std::size_t(sh), 0);
-    fit_detail::parallel_slices(std::size_t(sh), threads, [&](int, std::size_t begin, std::size_t end) {
+    npf::parallel_slices(std::size_t(sh), std::size_t(threads), [&](std::size_t, std::size_t begin, std::size_t end) {
         std::vector<float> raw(C);
         std::vector<double> base(C);
         for (std::size_t a = begin; a < end; ++a) {
@@ -289,7 +288,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
                 }
             }
         }
-    });
+    }, threads);
     report_progress(0.3);
 
     sys.data_error.assign(C, 0.0);
@@ -311,7 +310,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
     sys.rhs.assign(C, std::vector<double>(cells, 0.0));
     std::vector<std::vector<double>>& stencil = sys.stencil;
     std::vector<std::vector<double>>& rhs = sys.rhs;
-    fit_detail::parallel_slices(std::size_t(g.theta_h), threads, [&](int, std::size_t begin, std::size_t end) {
+    npf::parallel_slices(std::size_t(g.theta_h), std::size_t(threads), [&](std::size_t, std::size_t begin, std::size_t end) {
         for (std::size_t h = begin; h < end; ++h) {
             for (std::size_t a = 0; a < std::size_t(sh); ++a) {
                 if (std::size_t(ah.lerp[a].i0) != h && std::size_t(ah.lerp[a].i1) != h) continue;
@@ -342,7 +341,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
                 }
             }
         }
-    });
+    }, threads);
     report_progress(0.5);
 
     // Neighbours of each cell in stencil order (-1 outside the grid).
@@ -421,7 +420,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
     std::vector<double>& albedo_base = sys.albedo_base;
     {
         constexpr int kU = 128, kPhi = 128;
-        fit_detail::parallel_slices(V, threads, [&](int, std::size_t begin, std::size_t end) {
+        npf::parallel_slices(V, std::size_t(threads), [&](std::size_t, std::size_t begin, std::size_t end) {
             std::vector<float> raw(C);
             std::vector<double> base(C);
             for (std::size_t v = begin; v < end; ++v) {
@@ -456,7 +455,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
                     }
                 }
             }
-        });
+        }, threads);
     }
     report_progress(0.6);
 
@@ -494,7 +493,7 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
     const std::size_t C = model.channel_count();
     const DetailGrid& g = o.grid;
     const std::size_t cells = g.cells();
-    const int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = npf::thread_count(o.threads);
     auto report_progress = [&](double f) {
         if (progress) progress(f);
     };
@@ -517,17 +516,15 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
     std::vector<int> iterations(C, 0);
     // Channels of one group run in order (each starts from the previous one's solution); groups in
     // parallel.
-    fit_detail::parallel_slices(groups, threads, [&](int, std::size_t begin, std::size_t end) {
-        for (std::size_t gr = begin; gr < end; ++gr) {
-            for (std::size_t ch = 0; ch < C; ++ch) {
-                if (group_of(ch) != gr) continue;
-                const fit_detail::NormalOperator op = fit_detail::NormalOperator::of(sys, ch);
-                std::vector<double>& x = warm[gr];
-                iterations[ch] = fit_detail::solve(op, sys.rhs[ch], x, o.max_iterations, o.tolerance);
-                for (std::size_t i = 0; i < cells; ++i) tables[ch * cells + i] = float(x[i]);
-            }
+    npf::parallel_for(groups, [&](std::size_t gr) {
+        for (std::size_t ch = 0; ch < C; ++ch) {
+            if (group_of(ch) != gr) continue;
+            const fit_detail::NormalOperator op = fit_detail::NormalOperator::of(sys, ch);
+            std::vector<double>& x = warm[gr];
+            iterations[ch] = fit_detail::solve(op, sys.rhs[ch], x, o.max_iterations, o.tolerance);
+            for (std::size_t i = 0; i < cells; ++i) tables[ch * cells + i] = float(x[i]);
         }
-    });
+    }, threads);
     for (int it : iterations) report.iterations_max = std::max(report.iterations_max, it);
     report_progress(0.8);
 
@@ -558,7 +555,7 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
         const std::size_t sh = sys.theta_h.angle.size();
         const int sd = int(sys.theta_d.angle.size()), sp = int(sys.phi_d.angle.size()), se = sys.phi_h_samples;
         std::vector<double> error_after(std::size_t(sh) * C, 0.0);
-        fit_detail::parallel_slices(std::size_t(sh), threads, [&](int, std::size_t begin, std::size_t end) {
+        npf::parallel_slices(std::size_t(sh), std::size_t(threads), [&](std::size_t, std::size_t begin, std::size_t end) {
             std::vector<double> with(C), without(C);
             for (std::size_t a = begin; a < end; ++a) {
                 for (int b = 0; b < sd; ++b) {
@@ -578,7 +575,7 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
                     }
                 }
             }
-        });
+        }, threads);
         for (std::size_t ch = 0; ch < C; ++ch) {
             double e = 0.0;
             for (std::size_t a = 0; a < std::size_t(sh); ++a) e += error_after[a * C + ch];

@@ -1,8 +1,7 @@
 #include "sample_set.h"
 
-#include "parallel.h"
-
 #include <npf/core/error.h>
+#include <npf/core/parallel.h>
 #include <npf/core/vec.h>
 #include <npf/shading/npf_equation.h>
 
@@ -73,9 +72,10 @@ SampleSet make_sample_set(const AwlsOptions& o, int threads) {
     const RusinkiewiczGrid& grid = o.grid;
     const int phi_d_samples = o.phi_d_samples > 0 ? o.phi_d_samples : grid.phi_d;
     const bool centred = phi_d_samples == grid.phi_d;
+    // One part per thread, each a run of theta_h rows, joined in row order below.
     std::vector<Part> parts(std::size_t(std::max(1, threads)));
-    parallel_slices(std::size_t(grid.theta_h), int(parts.size()), [&](int t, std::size_t b, std::size_t e) {
-        Part& p = parts[std::size_t(t)];
+    npf::parallel_slices(std::size_t(grid.theta_h), parts.size(), [&](std::size_t t, std::size_t b, std::size_t e) {
+        Part& p = parts[t];
         for (int ih = int(b); ih < int(e); ++ih) {
             for (int jh = 0; jh < grid.phi_h; ++jh) {
                 std::uint32_t rings = 0;
@@ -114,7 +114,7 @@ SampleSet make_sample_set(const AwlsOptions& o, int threads) {
                 p.cell_rings.push_back(rings);
             }
         }
-    });
+    }, int(parts.size()));
 
     SampleSet s;
     s.d_cells = std::size_t(grid.theta_h) * std::size_t(grid.phi_h);

@@ -54,7 +54,7 @@ struct AlbedoTableOptions {
     // Empty: default_albedo_azimuths(brdf.info().isotropic). Any finite values otherwise.
     std::vector<double> phi_deg;
     DirectionalAlbedoOptions estimator;
-    // Directions are shared out over this many threads (std::thread); 0: all cores. The
+    // Directions are shared out over this many threads (core/parallel.h); 0: all cores. The
     // results do not depend on it.
     int threads = 0;
 };

@@ -50,7 +50,7 @@ struct RenderOptions {
     std::size_t width = 256, height = 256;  // 1 .. 16384 each
     std::uint32_t spp = 64;                  // samples per pixel, 1 .. 2^24
     std::uint64_t seed = 0;
-    unsigned threads = 0;                    // 0: std::thread::hardware_concurrency()
+    unsigned threads = 0;                    // 0: npf::thread_count(0) (all hardware threads)
     // Nothing: as the material stores (RGB, or the default wavelength quadrature,
     // render_channels.h). Channels::rgb() or a wavelength list to override.
     std::optional<Channels> channels;
