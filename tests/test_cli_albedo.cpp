@@ -233,8 +233,8 @@ TEST(CliAlbedo, BadThetaListsAreErrors) {
 TEST(CliAlbedo, BadCountsAndFlagsAreErrors) {
     const std::string m = files().iso_rgb;
     expect_errors({
-        {{m, "--samples", "1"}, "npf albedo: error: --samples: '1' is not a whole number in 2..4096"},
-        {{m, "--azimuths", "0"}, "--azimuths: '0' is not a whole number in 1..360"},
+        {{m, "--samples", "1"}, "npf albedo: error: --samples: needs a whole number in [2, 4096], got '1'"},
+        {{m, "--azimuths", "0"}, "--azimuths: needs a whole number in [1, 360], got '0'"},
         {{m, "--wavelengths", "-3"}, "--wavelengths"},
         {{m, "--bogus"}, "unknown option '--bogus' (see npf albedo --help)"},
     });

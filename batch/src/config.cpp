@@ -4,6 +4,7 @@
 
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
+#include <npf/core/number_text.h>
 
 #include <npf/converter/convert_settings_table.h>
 #include <npf/converter/yaml_context.h>
@@ -36,13 +37,11 @@ namespace {
 }
 
 long whole(const std::string& origin, const std::string& key, const std::string& v, long lo, long hi) {
-    errno = 0;
-    char* end = nullptr;
-    const long n = std::strtol(v.c_str(), &end, 10);
-    if (v.empty() || *end != '\0' || errno == ERANGE || n < lo || n > hi) {
-        bad(origin, key, "needs a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + v + "'");
+    try {
+        return long(parse_whole_number(v, std::uint64_t(lo), std::uint64_t(hi), key));
+    } catch (const Error& e) {
+        bad(origin, key, e.problem());
     }
-    return n;
 }
 
 bool boolean(const std::string& origin, const std::string& key, const std::string& v) {

@@ -2,6 +2,7 @@
 
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
+#include <npf/core/number_text.h>
 #include <npf/core/text.h>
 
 #include <algorithm>
@@ -446,8 +447,7 @@ SettingValue check_setting(const ConvertSettingRow& row, const std::string& v, c
                 }
                 out.numbers.push_back(double(n));
             } else {
-                const double d = std::strtod(p.c_str(), &end);
-                if (p.empty() || *end != '\0' || !std::isfinite(d)) throw Error(what, "'" + p + "' is not a number");
+                const double d = parse_finite_number(p, what);
                 if (!inside(d)) throw Error(what, row.range_problem.empty() ? "must lie in " + range_text(*range) : row.range_problem);
                 out.numbers.push_back(d);
             }

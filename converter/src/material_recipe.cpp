@@ -4,6 +4,7 @@
 #include <npf/converter/yaml_context.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
+#include <npf/core/number_text.h>
 
 #include <yaml-cpp/yaml.h>
 
@@ -185,18 +186,9 @@ Channels parse_channels(const Context& cx, const YAML::Node& node) {
 }  // namespace
 
 color::SampledSpectrum spectrum_from_text(const std::string& text, const std::string& what) {
-    std::vector<double> parts;
-    std::stringstream ss(text);
-    bool numbers = !text.empty();
-    for (std::string p; std::getline(ss, p, ',');) {
-        char* end = nullptr;
-        const double v = std::strtod(p.c_str(), &end);
-        if (p.empty() || end != p.c_str() + p.size() || !std::isfinite(v)) {
-            numbers = false;
-            break;
-        }
-        parts.push_back(v);
-    }
+    const std::optional<std::vector<double>> list = parse_number_list(text);
+    const std::vector<double> parts = list ? *list : std::vector<double>{};
+    const bool numbers = bool(list);
     if (numbers && parts.size() == 1) return color::SampledSpectrum::constant(parts[0]);
     if (numbers && parts.size() == 3) return srgb_spectrum(parts[0], parts[1], parts[2]);
     if (numbers) throw Error(what, "'" + text + "' is neither one number nor an r,g,b colour");

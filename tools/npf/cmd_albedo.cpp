@@ -2,6 +2,8 @@
 // with a reference, where and by how much the two differ (docs/albedo.md). The main use is a
 // fitted texture against its source: `npf albedo fitted.npf.exr --against source.bsdf`.
 #include "command_line.h"
+
+#include <npf/core/number_text.h>
 #include "commands.h"
 
 #include <npf/color/spectrum.h>
@@ -67,11 +69,12 @@ std::string json_array(const std::vector<double>& v) {
 }
 
 bool parse_double(const std::string& text, double& v) {
-    if (text.empty()) return false;
-    char* end = nullptr;
-    errno = 0;
-    v = std::strtod(text.c_str(), &end);
-    return *end == '\0' && errno == 0 && std::isfinite(v);
+    try {
+        v = parse_finite_number(text, "");
+        return true;
+    } catch (const Error&) {
+        return false;
+    }
 }
 
 // "0,45,89" or "start:end:count" (count evenly spaced values, both ends included).
@@ -104,15 +107,6 @@ std::vector<double> parse_theta_list(const std::string& text) {
             throw Error("--theta", format("%g", v) + " is outside [0, 90) degrees (90 is the horizon: no albedo there)");
     }
     return out;
-}
-
-int parse_count(const std::string& flag, const std::string& text, int lo, int hi) {
-    char* end = nullptr;
-    errno = 0;
-    const long v = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || errno != 0 || v < lo || v > hi)
-        throw Error(flag, "'" + text + "' is not a whole number in " + std::to_string(lo) + ".." + std::to_string(hi));
-    return int(v);
 }
 
 // Channel names for headers and the worst-difference line.
@@ -169,8 +163,8 @@ int run_albedo(const std::vector<std::string>& args) {
     // Options first, so that a bad flag fails before any file is read.
     AlbedoTableOptions options;
     if (cl.has("--theta")) options.theta_deg = parse_theta_list(cl.value("--theta"));
-    if (cl.has("--samples")) options.estimator.samples = parse_count("--samples", cl.value("--samples"), 2, 4096);
-    const int azimuth_count = cl.has("--azimuths") ? parse_count("--azimuths", cl.value("--azimuths"), 1, 360) : 0;
+    options.estimator.samples = int(cl.whole("--samples", 2, 4096, std::uint64_t(options.estimator.samples)));
+    const int azimuth_count = int(cl.whole("--azimuths", 1, 360, 0));
     std::vector<float> wavelengths;
     if (cl.has("--wavelengths")) wavelengths = parse_wavelength_list(cl.value("--wavelengths"), "--wavelengths");
 

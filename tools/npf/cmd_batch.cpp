@@ -103,13 +103,7 @@ int run_batch(const std::vector<std::string>& args) {
     batch::BatchOptions options;
     if (cl.has("--shard")) options.shard = batch::parse_shard(cl.value("--shard"));
     options.force = cl.has("--force");
-    if (cl.has("--threads")) {
-        const std::string v = cl.value("--threads");
-        char* end = nullptr;
-        const long n = std::strtol(v.c_str(), &end, 10);
-        if (v.empty() || *end != '\0' || n < 1 || n > 1024) throw Error("--threads", "needs a whole number in [1, 1024], got '" + v + "'");
-        options.threads = int(n);
-    }
+    options.threads = int(cl.whole("--threads", 1, 1024, std::uint64_t(options.threads)));
     if (cl.has("--memory-limit")) {
         options.memory_limit = cl.value("--memory-limit");
         batch::parse_memory_limit(options.memory_limit, "--memory-limit");

@@ -9,6 +9,7 @@
 #include <npf/core/error.h>
 #include <npf/core/json_text.h>
 #include <npf/core/input_file.h>
+#include <npf/core/parallel.h>
 #include <npf/shading/npf_closure.h>
 #include <npf/shading/npf_texture_file.h>
 
@@ -21,7 +22,6 @@
 #include <memory>
 #include <random>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace npf::cli {
@@ -122,23 +122,11 @@ int run_bench(const std::vector<std::string>& args) {
     const std::string path = cl.positional()[0];
     require_regular_file(path, "an NPF texture (.exr)");
     if (!is_npf_texture(path)) throw Error(path, "not an NPF factor texture (convert it first: npf convert)");
-    double seconds = 0.5;
-    if (cl.has("--seconds")) {
-        const std::string v = cl.value("--seconds");
-        char* end = nullptr;
-        seconds = std::strtod(v.c_str(), &end);
-        if (end == v.c_str() || *end || !(seconds > 0.0) || seconds > 600.0) {
-            throw Error("--seconds", "expected a number of seconds in (0, 600], got '" + v + "'");
-        }
+    const double seconds = cl.number("--seconds", 0.5);
+    if (!(seconds > 0.0) || seconds > 600.0) {
+        throw Error("--seconds", "expected a number of seconds in (0, 600], got '" + cl.value("--seconds") + "'");
     }
-    int threads = int(std::max(1u, std::thread::hardware_concurrency()));
-    if (cl.has("--threads")) {
-        const std::string v = cl.value("--threads");
-        char* end = nullptr;
-        const long n = std::strtol(v.c_str(), &end, 10);
-        if (end == v.c_str() || *end || n < 1 || n > 256) throw Error("--threads", "expected 1..256, got '" + v + "'");
-        threads = int(n);
-    }
+    const int threads = int(cl.whole("--threads", 1, 256, std::uint64_t(npf::thread_count(0))));
     const bool json = cl.has("--json");
 
     const NpfClosure memory(path, NpfClosure::Path::Memory);
@@ -230,21 +218,18 @@ int run_bench(const std::vector<std::string>& args) {
     std::atomic<std::uint64_t> total_calls{0};
     const auto start = std::chrono::steady_clock::now();
     {
-        std::vector<std::thread> pool;
         const auto batch = eval_batch(memory, false);
-        for (int t = 0; t < threads; ++t) {
-            pool.emplace_back([&] {
-                volatile double sink = 0.0;
-                const auto t0 = std::chrono::steady_clock::now();
-                std::uint64_t calls = 0;
-                do {
-                    sink = sink + batch();
-                    calls += kPairs;
-                } while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < seconds);
-                total_calls += calls;
-            });
-        }
-        for (std::thread& t : pool) t.join();
+        // One item per thread, each timed on its own.
+        npf::parallel_for(std::size_t(threads), [&](std::size_t) {
+            volatile double sink = 0.0;
+            const auto t0 = std::chrono::steady_clock::now();
+            std::uint64_t calls = 0;
+            do {
+                sink = sink + batch();
+                calls += kPairs;
+            } while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < seconds);
+            total_calls += calls;
+        }, threads);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double throughput = double(total_calls.load()) / wall;

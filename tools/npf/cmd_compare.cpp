@@ -3,6 +3,8 @@
 // the pair rendered at a second seed (--floor), the PSNR's noise floor. Definitions:
 // docs/metrics.md.
 #include "command_line.h"
+
+#include <npf/core/number_text.h>
 #include "commands.h"
 
 #include <npf/color/display_image.h>
@@ -74,10 +76,8 @@ std::string format_number(double v) {
 std::string metric_json(double v) { return std::isfinite(v) ? format_number(v) : json_string(format_number(v)); }
 
 double parse_heatmap_max(const std::string& text) {
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0.0))
-        throw Error("--heatmap-max", "'" + text + "' is not a number > 0");
+    const double v = parse_finite_number(text, "--heatmap-max");
+    if (!(v > 0.0)) throw Error("--heatmap-max", "'" + text + "' is not a number > 0");
     return v;
 }
 

@@ -1,6 +1,8 @@
 // npf render MATERIAL -o OUT.exr: the paper's Sphere scene under an environment map, path-traced
 // with multiple importance sampling; deterministic for a given seed (docs/render.md).
 #include "command_line.h"
+
+#include <npf/core/number_text.h>
 #include "commands.h"
 #include "progress.h"
 
@@ -44,30 +46,13 @@ const std::vector<FlagSpec> kFlags = {
     {"--help", false, "show this help"},
 };
 
-unsigned long long whole(const std::string& flag, const std::string& v, unsigned long long lo, unsigned long long hi) {
-    const bool digits = !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
-    errno = 0;
-    char* end = nullptr;
-    const unsigned long long n = digits ? std::strtoull(v.c_str(), &end, 10) : 0;
-    if (!digits || errno == ERANGE || *end != '\0' || n < lo || n > hi)
-        throw Error(flag, "needs a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + v + "'");
-    return n;
-}
-
-double number(const std::string& flag, const std::string& v) {
-    char* end = nullptr;
-    const double d = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || !std::isfinite(d)) throw Error(flag, "'" + v + "' is not a number");
-    return d;
-}
-
 void parse_size(const std::string& v, std::size_t& width, std::size_t& height) {
     const std::size_t x = v.find('x');
     if (x == std::string::npos) {
-        width = height = std::size_t(whole("--size", v, 1, 16384));
+        width = height = std::size_t(parse_whole_number(v, 1, 16384, "--size"));
     } else {
-        width = std::size_t(whole("--size", v.substr(0, x), 1, 16384));
-        height = std::size_t(whole("--size", v.substr(x + 1), 1, 16384));
+        width = std::size_t(parse_whole_number(v.substr(0, x), 1, 16384, "--size"));
+        height = std::size_t(parse_whole_number(v.substr(x + 1), 1, 16384, "--size"));
     }
 }
 
@@ -108,9 +93,9 @@ int run_render(const std::vector<std::string>& args) {
     // Every flag first, so that a typo fails before any work.
     render::RenderOptions options;
     if (cl.has("--size")) parse_size(cl.value("--size"), options.width, options.height);
-    if (cl.has("--spp")) options.spp = std::uint32_t(whole("--spp", cl.value("--spp"), 1, 1u << 24));
-    if (cl.has("--seed")) options.seed = std::uint64_t(whole("--seed", cl.value("--seed"), 0, ~0ull));
-    if (cl.has("--threads")) options.threads = unsigned(whole("--threads", cl.value("--threads"), 1, 1024));
+    options.spp = std::uint32_t(cl.whole("--spp", 1, 1u << 24, options.spp));
+    options.seed = cl.whole("--seed", 0, ~std::uint64_t(0), options.seed);
+    options.threads = unsigned(cl.whole("--threads", 1, 1024, options.threads));
     if (cl.has("--scene") && cl.value("--scene") != "sphere")
         throw Error("--scene", "'" + cl.value("--scene") + "' is not a known scene (sphere)");
     if (cl.has("--wavelengths")) options.channels = parse_channel_list(cl.value("--wavelengths"), "--wavelengths");
@@ -121,7 +106,7 @@ int run_render(const std::vector<std::string>& args) {
         else if (v == "env") options.sampling = render::Sampling::Environment;
         else throw Error("--sampling", "'" + v + "' is not mis, brdf or env");
     }
-    const double exposure = cl.has("--exposure") ? number("--exposure", cl.value("--exposure")) : 0.0;
+    const double exposure = cl.number("--exposure", 0.0);
     if (std::fabs(exposure) > 64.0) throw Error("--exposure", "must be within -64..64 stops");
 
     // A destination that cannot be written fails now, not after the render.

@@ -1,6 +1,8 @@
 // npf synth: makes an RGL `.bsdf` file from an analytic material, given as a YAML recipe
 // (configs/materials/) or by flags ("virtual acquisition").
 #include "command_line.h"
+
+#include <npf/core/number_text.h>
 #include "commands.h"
 #include "progress.h"
 
@@ -43,24 +45,6 @@ const std::vector<FlagSpec> kFlags = {
     {"--quiet", false, "no progress bar"},
     {"--help", false, "show this help"},
 };
-
-int whole_flag(const CommandLine& cl, const std::string& flag, int fallback, int lo) {
-    if (!cl.has(flag)) return fallback;
-    const std::string v = cl.value(flag);
-    char* end = nullptr;
-    const long n = std::strtol(v.c_str(), &end, 10);
-    if (v.empty() || *end != '\0' || n < lo || n > 4096) {
-        throw Error(flag, "needs a whole number in [" + std::to_string(lo) + ", 4096], got '" + v + "'");
-    }
-    return int(n);
-}
-
-double number_flag(const std::string& flag, const std::string& v) {
-    char* end = nullptr;
-    const double d = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || !std::isfinite(d)) throw Error(flag, "'" + v + "' is not a number");
-    return d;
-}
 
 }  // namespace
 
@@ -106,13 +90,13 @@ int run_synth(const std::vector<std::string>& args) {
         if (cl.has("--alpha")) {
             const std::string a = cl.value("--alpha");
             const auto comma = a.find(',');
-            lobe.ndf.alpha_x = float(number_flag("--alpha", a.substr(0, comma)));
-            lobe.ndf.alpha_y = comma == std::string::npos ? lobe.ndf.alpha_x : float(number_flag("--alpha", a.substr(comma + 1)));
+            lobe.ndf.alpha_x = float(parse_finite_number(a.substr(0, comma), "--alpha"));
+            lobe.ndf.alpha_y = comma == std::string::npos ? lobe.ndf.alpha_x : float(parse_finite_number(a.substr(comma + 1), "--alpha"));
             if (!(lobe.ndf.alpha_x >= 1e-4f && lobe.ndf.alpha_y >= 1e-4f && lobe.ndf.alpha_x <= 4.f && lobe.ndf.alpha_y <= 4.f)) {
                 throw Error("--alpha", "roughness must lie in [1e-4, 4]");
             }
         }
-        if (cl.has("--rotation")) lobe.ndf.rotation = float(number_flag("--rotation", cl.value("--rotation")) * kPiD / 180.0);
+        if (cl.has("--rotation")) lobe.ndf.rotation = float(parse_finite_number(cl.value("--rotation"), "--rotation") * kPiD / 180.0);
         if (cl.has("--conductor")) lobe.fresnel = conductor_fresnel(cl.value("--conductor"), "--conductor");
         // Fresnel factories reject out-of-range values; report them against the flag.
         auto for_flag = [](const char* flag, auto make) {
@@ -123,7 +107,7 @@ int run_synth(const std::vector<std::string>& args) {
             }
         };
         if (cl.has("--dielectric")) {
-            const double eta = number_flag("--dielectric", cl.value("--dielectric"));
+            const double eta = parse_finite_number(cl.value("--dielectric"), "--dielectric");
             lobe.fresnel = for_flag("--dielectric", [&] { return Fresnel::dielectric(color::SampledSpectrum::constant(eta)); });
         }
         if (cl.has("--schlick")) {
@@ -134,8 +118,8 @@ int run_synth(const std::vector<std::string>& args) {
             const std::string t = cl.value("--thin-film");
             const auto a = t.find(','), b = a == std::string::npos ? a : t.find(',', a + 1);
             if (b == std::string::npos) throw Error("--thin-film", "needs THICKNESS_NM,FILM_IOR,BASE");
-            const double thickness = number_flag("--thin-film", t.substr(0, a));
-            const double film = number_flag("--thin-film", t.substr(a + 1, b - a - 1));
+            const double thickness = parse_finite_number(t.substr(0, a), "--thin-film");
+            const double film = parse_finite_number(t.substr(a + 1, b - a - 1), "--thin-film");
             const std::string base = t.substr(b + 1);
             char* end = nullptr;
             const double base_ior = std::strtod(base.c_str(), &end);
@@ -169,13 +153,13 @@ int run_synth(const std::vector<std::string>& args) {
         else if (a == "anisotropic") recipe.writer.anisotropy = AnisotropyMode::Anisotropic;
         else throw Error("--anisotropy", "'" + a + "' is not auto, isotropic or anisotropic");
     }
-    recipe.writer.phi_count = whole_flag(cl, "--phi", recipe.writer.phi_count, 3);
-    recipe.writer.theta_count = whole_flag(cl, "--theta", recipe.writer.theta_count, 2);
-    recipe.writer.ndf_size = whole_flag(cl, "--ndf", recipe.writer.ndf_size, 2);
-    recipe.writer.ndf_rows = whole_flag(cl, "--ndf-rows", recipe.writer.ndf_rows, 2);
-    recipe.writer.vndf_size = whole_flag(cl, "--vndf", recipe.writer.vndf_size, 2);
-    recipe.writer.data_size = whole_flag(cl, "--data", recipe.writer.data_size, 2);
-    recipe.writer.threads = whole_flag(cl, "--threads", 0, 1);
+    recipe.writer.phi_count = int(cl.whole("--phi", 3, 4096, recipe.writer.phi_count));
+    recipe.writer.theta_count = int(cl.whole("--theta", 2, 4096, recipe.writer.theta_count));
+    recipe.writer.ndf_size = int(cl.whole("--ndf", 2, 4096, recipe.writer.ndf_size));
+    recipe.writer.ndf_rows = int(cl.whole("--ndf-rows", 2, 4096, recipe.writer.ndf_rows));
+    recipe.writer.vndf_size = int(cl.whole("--vndf", 2, 4096, recipe.writer.vndf_size));
+    recipe.writer.data_size = int(cl.whole("--data", 2, 4096, recipe.writer.data_size));
+    recipe.writer.threads = int(cl.whole("--threads", 1, 4096, 0));
     if (recipe.writer.description.empty()) recipe.writer.description = recipe.material.name;
 
     const std::string output = cl.has("-o") ? cl.value("-o") : recipe.output;

@@ -1,5 +1,7 @@
 #include "command_line.h"
 
+#include <npf/core/number_text.h>
+
 #include <cctype>
 
 namespace npf::cli {
@@ -53,6 +55,14 @@ CommandLine::CommandLine(const std::string& /*command*/, const std::vector<std::
 std::string CommandLine::value(const std::string& flag, const std::string& fallback) const {
     auto it = m_values.find(flag);
     return it == m_values.end() ? fallback : it->second;
+}
+
+std::uint64_t CommandLine::whole(const std::string& flag, std::uint64_t lo, std::uint64_t hi, std::uint64_t fallback) const {
+    return has(flag) ? parse_whole_number(value(flag), lo, hi, flag) : fallback;
+}
+
+double CommandLine::number(const std::string& flag, double fallback) const {
+    return has(flag) ? parse_finite_number(value(flag), flag) : fallback;
 }
 
 void CommandLine::expect_positional(std::size_t min, std::size_t max, const std::string& what) const {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -51,6 +52,12 @@ public:
     // The last value given for `flag`.
     std::string value(const std::string& flag, const std::string& fallback = "") const;
     const std::vector<std::string>& positional() const { return m_positional; }
+
+    // Typed values (core/number_text.h: one parser and one wording of errors for every command):
+    // `fallback` when the flag is not given, else its last value, which must be a whole number
+    // in [lo, hi] or a finite number; a bad value throws npf::Error naming the flag (exit 1).
+    std::uint64_t whole(const std::string& flag, std::uint64_t lo, std::uint64_t hi, std::uint64_t fallback) const;
+    double number(const std::string& flag, double fallback) const;
     // Every flag with its value ("" for switches) in command-line order, repeats included.
     const std::vector<std::pair<std::string, std::string>>& flags_in_order() const { return m_ordered; }
 
