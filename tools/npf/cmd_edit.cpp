@@ -1,99 +1,53 @@
 // npf edit: edits on a fitted NPF material (paper sec. 4.3; docs/editing.md): NDF transforms,
 // diffuse and specular colour swaps, thin-film Fresnel. Steps come from a YAML recipe and from
-// flags (recipe first, then the flags in command-line order).
+// flags (recipe first, then the flags in command-line order), both through the edit kinds
+// (npf/edit/edit_kinds.h), which also give the edit flags and their help.
 #include "command_line.h"
 #include "commands.h"
 #include "progress.h"
 
-#include <npf/color/spectrum.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/edit/edit_kinds.h>
 #include <npf/edit/recipe.h>
 #include <npf/shading/npf_texture_file.h>
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <set>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace npf::cli {
 
 namespace {
 
-const std::vector<FlagSpec> kFlags = {
-    {"-o", true, "output factor texture (.exr); required unless --dry-run"},
-    {"--recipe", true, "YAML recipe: a list of steps applied in order (configs/edits/)"},
-    {"--matrix", true, "NDF transform by the 3x3 matrix a,b,c,d,e,f,g,h,i (row-major, acts on normals)"},
-    {"--stretch-tangent", true, "stretch the NDF (highlight, roughness) along the tangent x by S"},
-    {"--stretch-bitangent", true, "stretch the NDF along the bitangent y by S"},
-    {"--rotate", true, "rotate the NDF (anisotropy axis) about the normal by DEG, tangent towards bitangent"},
-    {"--roughness", true, "scale the roughness by S in every direction (< 1 sharpens, > 1 blurs)"},
-    {"--sharpen", true, "sharpen the highlight by F (roughness / F)"},
-    {"--blur", true, "blur the highlight by F (roughness x F)"},
-    {"--diffuse-from", true, "rho_d of another NPF material (.exr, isotropic or anisotropic)"},
-    {"--diffuse-srgb", true, "diffuse albedo R,G,B as sRGB-encoded values in [0, 1] (rho_d = albedo / pi)"},
-    {"--diffuse-linear", true, "diffuse albedo R,G,B in linear sRGB"},
-    {"--diffuse-spectrum", true, "diffuse albedo spectrum from a .spd file (nm, value)"},
-    {"--specular-from", true, "rho_s F of another NPF material; D and G (the highlight's shape) stay"},
-    {"--keep-brightness", false, "for --specular-from: scale the new rho_s F to the material's own luminance"},
-    {"--thin-film", true, "thin film THICKNESS_NM,FILM_IOR on the material (Airy reflectance)"},
-    {"--film-base", true, "for --thin-film: fitted (default; from the material's F), ETA, ETA,K or a metal (Ag, Al, Au, Cr, Cu)"},
-    {"--film-mode", true, "for --thin-film: ratio (default; keeps the measured F's shape) or replace"},
-    {"--compress-rank", true, "re-compress D and G across wavelengths to ranks D,G (no refit; from a lossless file as convert --rank)"},
-    {"--compress-pca", true, "re-compress D and G to the smallest ranks keeping PCA ratios D,G (e.g. 0.99,0.95)"},
-    {"--limit-albedo", true, "cap the directional albedo at CAP (in (0, 1], e.g. 1): G is lowered at the views where the material reflects more light than that"},
-    {"--phi-cells", true, "azimuth cells of D and G when an isotropic material becomes anisotropic (default 2 x theta)"},
-    {"--svd", true, "rank (default: keep the input's SVD ranks) or ratio (the input's kept ratio)"},
-    {"--albedo-tolerance", true, "warn when the directional albedo exceeds 1 + this (default 0.005)"},
-    {"--no-albedo-check", false, "skip the directional-albedo check after each step"},
-    {"--description", true, "the edited material's description"},
-    {"--dry-run", false, "apply and report, write nothing"},
-    {"--help", false, "show this help"},
-};
-
-const std::set<std::string> kStepFlags = {"--matrix", "--stretch-tangent", "--stretch-bitangent", "--rotate",
-                                          "--roughness", "--sharpen", "--blur", "--diffuse-from",
-                                          "--diffuse-srgb", "--diffuse-linear", "--diffuse-spectrum",
-                                          "--specular-from", "--thin-film", "--compress-rank", "--compress-pca",
-                                          "--limit-albedo"};
-
-double number(const std::string& flag, const std::string& v) {
-    char* end = nullptr;
-    const double d = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || !std::isfinite(d)) throw Error(flag, "'" + v + "' is not a number");
-    return d;
-}
-
-double positive(const std::string& flag, const std::string& v) {
-    const double d = number(flag, v);
-    if (!(d > 0.0)) throw Error(flag, "must be positive, got '" + v + "'");
-    return d;
-}
-
-std::vector<double> numbers(const std::string& flag, const std::string& v, std::size_t count) {
-    std::vector<double> out;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t comma = v.find(',', start);
-        out.push_back(number(flag, v.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-    }
-    if (out.size() != count) {
-        throw Error(flag, "expects " + std::to_string(count) + " comma-separated numbers, got '" + v + "'");
-    }
-    return out;
-}
-
-std::string fmt(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%g", v);
-    return b;
+// The edit flags come from the edit kinds (edit_kinds.h), between the command's own.
+const std::vector<FlagSpec>& edit_flags() {
+    static const std::vector<FlagSpec> flags = [] {
+        std::vector<FlagSpec> f = {
+            {"-o", true, "output factor texture (.exr); required unless --dry-run"},
+            {"--recipe", true, "YAML recipe: a list of steps applied in order (configs/edits/)"},
+        };
+        for (const edit::EditKind& kind : edit::edit_kinds()) {
+            for (const edit::EditFlag& e : kind.flags) f.push_back({e.name, e.takes_value, e.help});
+        }
+        f.insert(f.end(), {
+            {"--phi-cells", true, "azimuth cells of D and G when an isotropic material becomes anisotropic (default 2 x theta)"},
+            {"--svd", true, "rank (default: keep the input's SVD ranks) or ratio (the input's kept ratio)"},
+            {"--albedo-tolerance", true, "warn when the directional albedo exceeds 1 + this (default 0.005)"},
+            {"--no-albedo-check", false, "skip the directional-albedo check after each step"},
+            {"--description", true, "the edited material's description"},
+            {"--dry-run", false, "apply and report, write nothing"},
+            {"--help", false, "show this help"},
+        });
+        return f;
+    }();
+    return flags;
 }
 
 // Edits work on fitted materials only: any other material (a measurement, a recipe), which
@@ -110,83 +64,10 @@ void require_npf_texture(const std::string& path, const std::string& origin) {
     throw Error(origin, e.what());  // as apply_edits names a step's errors
 }
 
-edit::EditStep step_from_flag(const std::string& flag, const std::string& v, const edit::FilmBase& base,
-                              edit::FilmMode mode, bool keep_brightness) {
-    using edit::EditStep;
-    EditStep s;
-    if (flag == "--matrix") {
-        const std::vector<double> m = numbers(flag, v, 9);
-        edit::Mat3 mat;
-        for (std::size_t i = 0; i < 9; ++i) mat.m[i] = m[i];
-        s = EditStep::ndf(mat, "matrix " + edit::matrix_text(mat));
-    } else if (flag == "--stretch-tangent") {
-        const double f = positive(flag, v);
-        s = EditStep::ndf(edit::stretch_matrix(f, 1.0), "stretch tangent " + fmt(f));
-    } else if (flag == "--stretch-bitangent") {
-        const double f = positive(flag, v);
-        s = EditStep::ndf(edit::stretch_matrix(1.0, f), "stretch bitangent " + fmt(f));
-    } else if (flag == "--rotate") {
-        const double d = number(flag, v);
-        s = EditStep::ndf(edit::rotation_matrix(d), "rotate the anisotropy axis by " + fmt(d) + " degrees");
-    } else if (flag == "--roughness" || flag == "--sharpen" || flag == "--blur") {
-        const double f = positive(flag, v);
-        const double scale = flag == "--sharpen" ? 1.0 / f : f;
-        s = EditStep::ndf(edit::roughness_matrix(scale), flag.substr(2) + " " + fmt(f) + " (roughness x " + fmt(scale) + ")");
-    } else if (flag == "--diffuse-from") {
-        s = EditStep::diffuse_from(v);
-    } else if (flag == "--diffuse-srgb" || flag == "--diffuse-linear") {
-        const std::vector<double> c = numbers(flag, v, 3);
-        color::Rgb rgb{c[0], c[1], c[2]};
-        for (double x : rgb) {
-            if (x < 0.0) throw Error(flag, "colour components are >= 0, got '" + v + "'");
-        }
-        if (flag == "--diffuse-srgb") {
-            for (double& x : rgb) x = color::srgb_to_linear(x);
-        }
-        s = EditStep::diffuse_albedo(rgb, std::string("diffuse albedo ") + (flag == "--diffuse-srgb" ? "sRGB" : "linear sRGB") +
-                                              " (" + v + ")");
-    } else if (flag == "--diffuse-spectrum") {
-        s = EditStep::diffuse_albedo(color::read_spd(v), "diffuse albedo from " + v);
-    } else if (flag == "--specular-from") {
-        s = EditStep::specular_from(v, 1.0, keep_brightness);
-    } else if (flag == "--thin-film") {
-        const std::vector<double> p = numbers(flag, v, 2);
-        if (p[0] < 0.0) throw Error(flag, "the thickness (nm) must not be negative");
-        if (!(p[1] > 0.0)) throw Error(flag, "the film index must be positive");
-        edit::ThinFilm f;
-        f.thickness_nm = p[0];
-        f.film_eta = color::SampledSpectrum::constant(p[1]);
-        f.base = base;
-        f.mode = mode;
-        s = EditStep::thin_film(f, "thin film " + fmt(p[0]) + " nm, index " + fmt(p[1]));
-    } else if (flag == "--compress-rank" || flag == "--compress-pca") {
-        const std::vector<double> p = numbers(flag, v, 2);
-        CompressionOptions o;
-        if (flag == "--compress-rank") {
-            if (!(p[0] >= 1.0 && p[1] >= 1.0 && p[0] == std::floor(p[0]) && p[1] == std::floor(p[1]))) {
-                throw Error(flag, "ranks are whole numbers >= 1");
-            }
-            o.d_rank = int(p[0]);
-            o.g_rank = int(p[1]);
-        } else {
-            if (!(p[0] > 0.0 && p[0] <= 1.0 && p[1] > 0.0 && p[1] <= 1.0)) throw Error(flag, "ratios are in (0, 1]");
-            o.d_ratio = p[0];
-            o.g_ratio = p[1];
-        }
-        s = EditStep::compress(o, std::string("compress D, G to ") + (flag == "--compress-rank" ? "ranks " : "PCA ratios ") + v);
-    } else if (flag == "--limit-albedo") {
-        const double cap = number(flag, v);
-        if (!(cap > 0.0 && cap <= 1.0)) throw Error(flag, "the cap must be in (0, 1], got '" + v + "'");
-        s = EditStep::limit_albedo(cap);
-    }
-    s.origin = flag;
-    return s;
-}
-
 }  // namespace
 
 int run_edit(const std::vector<std::string>& args) {
-    CommandLine cl("edit", args, kFlags);
+    CommandLine cl("edit", args, edit_flags());
     const bool dry = cl.has("--dry-run");
     if (cl.has("--help")) {
         std::printf("usage: npf edit IN.exr -o OUT.exr [--recipe FILE.yaml] [edit flags]\n\n"
@@ -199,7 +80,7 @@ int run_edit(const std::vector<std::string>& args) {
                     "  npf edit felt.exr -o felt_red.exr --diffuse-srgb 0.8,0.1,0.1\n"
                     "  npf edit steel.exr -o steel_film.exr --thin-film 615,1.3 --film-base fitted\n"
                     "  npf edit paper.exr -o paper_capped.exr --limit-albedo 1\n\n%s",
-                    usage_lines(kFlags).c_str());
+                    usage_lines(edit_flags()).c_str());
         return 0;
     }
     cl.expect_positional(1, 1, "one IN.exr");
@@ -210,25 +91,16 @@ int run_edit(const std::vector<std::string>& args) {
     edit::EditRecipe recipe;
     if (cl.has("--recipe")) recipe = edit::load_edit_recipe(cl.value("--recipe"));
     edit::EditOptions options = recipe.options;
-    const edit::FilmBase base = edit::parse_film_base(cl.value("--film-base", "fitted"), "--film-base");
-    edit::FilmMode mode = edit::FilmMode::Ratio;
-    if (cl.has("--film-mode")) {
-        const std::string v = cl.value("--film-mode");
-        if (v == "replace") mode = edit::FilmMode::Replace;
-        else if (v != "ratio") throw Error("--film-mode", "'" + v + "' is not ratio or replace");
-    }
-    if ((cl.has("--film-base") || cl.has("--film-mode")) && !cl.has("--thin-film")) {
-        throw Error(cl.has("--film-base") ? "--film-base" : "--film-mode", "applies to --thin-film, which is not given");
-    }
+    const edit::EditKinds& kinds = edit::edit_kinds();
+    edit::GivenFlags given;
+    for (const auto& [flag, value] : cl.flags_in_order()) given[flag] = value;
+    edit::check_edit_settings(kinds, given);
     std::vector<edit::EditStep> steps = recipe.steps;
-    if (cl.has("--keep-brightness") && !cl.has("--specular-from")) {
-        throw Error("--keep-brightness", "applies to --specular-from, which is not given");
-    }
     for (const auto& [flag, value] : cl.flags_in_order()) {
-        if (kStepFlags.count(flag)) steps.push_back(step_from_flag(flag, value, base, mode, cl.has("--keep-brightness")));
+        if (std::optional<edit::EditStep> s = edit::edit_step_from_flag(kinds, flag, value, given)) steps.push_back(std::move(*s));
     }
     if (cl.has("--phi-cells")) {
-        const double v = number("--phi-cells", cl.value("--phi-cells"));
+        const double v = edit::flag_number("--phi-cells", cl.value("--phi-cells"));
         if (v != std::floor(v) || v < 0 || v > 4096) throw Error("--phi-cells", "expects a whole number in [0, 4096]");
         options.ndf.phi_cells = int(v);
     }
@@ -239,7 +111,7 @@ int run_edit(const std::vector<std::string>& args) {
         else throw Error("--svd", "'" + v + "' is not rank or ratio");
     }
     if (cl.has("--albedo-tolerance")) {
-        options.albedo_tolerance = number("--albedo-tolerance", cl.value("--albedo-tolerance"));
+        options.albedo_tolerance = edit::flag_number("--albedo-tolerance", cl.value("--albedo-tolerance"));
         if (options.albedo_tolerance < 0.0) throw Error("--albedo-tolerance", "must not be negative");
     }
     if (cl.has("--no-albedo-check")) options.check_albedo = false;

@@ -16,14 +16,15 @@
 //     - limit_albedo: 1                       # or {cap: 0.95}: G lowered where the albedo exceeds it
 //   options: {phi_cells: 180, svd: rank, albedo_tolerance: 0.005}
 //
-// Paths are relative to the recipe's folder. Errors name "recipe.yaml:LINE" and the key.
+// Paths are relative to the recipe's folder. Errors name "recipe.yaml:LINE" and the key. The step
+// keys are the edit kinds' (edit_kinds.h; one file each in edit/src/kinds/).
 #pragma once
 
-#include <npf/color/spectrum.h>
-#include <npf/converter/fit/spectral_compression.h>
 #include <npf/edit/albedo.h>
 #include <npf/edit/albedo_limit.h>
+#include <npf/edit/edit_kinds.h>
 #include <npf/edit/edit_record.h>
+#include <npf/edit/edit_step.h>
 #include <npf/edit/ndf_transform.h>
 #include <npf/edit/thin_film.h>
 #include <npf/shading/npf_model.h>
@@ -33,40 +34,6 @@
 #include <vector>
 
 namespace npf::edit {
-
-struct EditStep {
-    enum class Kind {
-        Ndf,              // matrix (any of the NDF forms)
-        DiffuseMaterial,  // rho_d of the NPF file `path`, times scale
-        DiffuseSpectrum,  // albedo spectrum
-        DiffuseRgb,       // linear sRGB albedo
-        SpecularMaterial, // rho_s F of the NPF file `path`, times scale
-        ThinFilm,
-        Compress,         // D and G re-compressed (compression.h)
-        LimitAlbedo,      // G lowered where the directional albedo exceeds `cap` (albedo_limit.h)
-    };
-    Kind kind = Kind::Ndf;
-    std::string label;   // what the user asked, for the history ("stretch tangent 2, bitangent 1")
-    std::string origin;  // where it was asked ("recipe.yaml:7", "--rotate"), for errors
-    Mat3 matrix;
-    std::string path;
-    double scale = 1.0;
-    bool keep_brightness = false;  // SpecularMaterial
-    color::SampledSpectrum spectrum;
-    color::Rgb rgb{0, 0, 0};
-    ThinFilm film;
-    CompressionOptions compression;
-    double cap = 1.0;  // LimitAlbedo
-
-    static EditStep ndf(const Mat3& m, std::string label);
-    static EditStep diffuse_from(std::string path, double scale = 1.0);
-    static EditStep diffuse_albedo(color::SampledSpectrum albedo, std::string label);
-    static EditStep diffuse_albedo(const color::Rgb& linear, std::string label);
-    static EditStep specular_from(std::string path, double scale = 1.0, bool keep_brightness = false);
-    static EditStep thin_film(ThinFilm film, std::string label);
-    static EditStep compress(const CompressionOptions& options, std::string label);
-    static EditStep limit_albedo(double cap);
-};
 
 struct EditOptions {
     NdfTransformOptions ndf;
@@ -92,6 +59,9 @@ struct EditRecipe {
 EditRecipe load_edit_recipe(const std::string& path);
 // The same from YAML text; `source` names it in errors and `base_dir` resolves relative paths.
 EditRecipe parse_edit_recipe(const std::string& yaml, const std::string& source, const std::string& base_dir);
+// The same with the steps of `kinds` instead of edit_kinds() (edit_kinds.h).
+EditRecipe parse_edit_recipe(const std::string& yaml, const std::string& source, const std::string& base_dir,
+                             const EditKinds& kinds);
 
 // A thin-film base from text: "fitted", a number (a dielectric's index), "eta,k", or a metal of
 // the shipped tables (Ag, Al, Au, Cr, Cu). Throws npf::Error naming `what`.

@@ -1,0 +1,100 @@
+#include <npf/edit/recipe.h>
+
+#include "history.h"
+#include "tables.h"
+
+#include <npf/edit/colour_edits.h>
+#include <npf/edit/compression.h>
+#include <npf/core/error.h>
+#include <npf/shading/npf_texture_file.h>
+
+namespace npf::edit {
+
+namespace {
+
+// The factors (not the metadata) of two models are the same, bit for bit.
+bool same_factors(const NpfModel& a, const NpfModel& b) {
+    return a.d_theta == b.d_theta && a.d_phi == b.d_phi && a.g_theta == b.g_theta && a.g_phi == b.g_phi &&
+           a.f_theta == b.f_theta && a.rho_d == b.rho_d && a.rho_s == b.rho_s && a.F == b.F && a.D.basis == b.D.basis &&
+           a.D.weights == b.D.weights && a.G.basis == b.G.basis && a.G.weights == b.G.weights;
+}
+
+NpfModel apply_step(const NpfModel& model, const EditStep& s, const EditOptions& options, EditRecord* rec) {
+    switch (s.kind) {
+    case EditStep::Kind::Ndf:
+        return transform_ndf(model, s.matrix, options.ndf, rec);
+    case EditStep::Kind::DiffuseMaterial:
+        return replace_diffuse(model, read_npf_texture(s.path), s.scale, rec);
+    case EditStep::Kind::DiffuseSpectrum:
+        return replace_diffuse_albedo(model, s.spectrum, rec);
+    case EditStep::Kind::DiffuseRgb:
+        return replace_diffuse_albedo(model, s.rgb, rec);
+    case EditStep::Kind::SpecularMaterial:
+        return replace_specular(model, read_npf_texture(s.path), SpecularSwap{s.scale, s.keep_brightness}, rec);
+    case EditStep::Kind::ThinFilm:
+        return apply_thin_film(model, s.film, rec);
+    case EditStep::Kind::Compress:
+        return compress_model(model, s.compression, rec);
+    case EditStep::Kind::LimitAlbedo: {
+        AlbedoLimit cap;
+        cap.cap = s.cap;
+        cap.threads = options.albedo.threads;
+        cap.progress = options.progress;
+        return limit_albedo(model, cap, rec);
+    }
+    }
+    return model;  // not reached: every kind is handled above
+}
+
+}  // namespace
+
+EditResult apply_edits(const NpfModel& model, const std::vector<EditStep>& steps, const EditOptions& options,
+                       const std::function<void(std::size_t, const EditRecord&)>& on_step) {
+    EditResult r;
+    r.model = model;
+    int next = detail::next_history_number(model);
+    if (options.check_albedo) r.input_albedo = r.output_albedo = albedo_report(model, options.albedo);
+    const double limit = 1.0 + options.albedo_tolerance;
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+        const EditStep& s = steps[i];
+        EditRecord rec;
+        const NpfModel before = r.model;
+        try {
+            r.model = apply_step(r.model, s, options, &rec);
+        } catch (const Error& e) {
+            if (s.origin.empty()) throw;
+            throw Error(s.origin, e.what());
+        }
+        if (options.check_albedo) {
+            // An edit that changed nothing (an identity) keeps the last measurement.
+            const AlbedoReport a = same_factors(before, r.model) ? r.output_albedo : albedo_report(r.model, options.albedo);
+            const std::string where = "theta_i " + detail::num(a.theta_deg, 3) + " deg, phi_i " + detail::num(a.phi_deg, 3) +
+                                      " deg, channel " + std::to_string(a.channel);
+            rec.summary += "; largest directional albedo " + detail::num(a.max, 4) + " (" + where + ")";
+            if (a.max > limit) {
+                std::string w = "the directional albedo reaches " + detail::num(a.max, 4) + " (" + where +
+                                "): the material reflects more light than it receives";
+                if (r.input_albedo.max > limit) w += " (the input already reached " + detail::num(r.input_albedo.max, 4) + ")";
+                rec.warnings.push_back(w);
+            }
+            r.output_albedo = a;
+        }
+        std::string value = s.label + ": " + rec.summary;
+        for (const std::string& w : rec.warnings) value += "; WARNING: " + w;
+        const std::string key = detail::history_key(next++);
+        r.model.metadata.emplace_back(key, value);
+        r.history_keys.push_back(key);
+        r.records.push_back(rec);
+        if (on_step) on_step(i, rec);
+    }
+    if (!options.description.empty()) {
+        bool found = false;
+        for (auto& kv : r.model.metadata) {
+            if (kv.first == "description") kv.second = options.description, found = true;
+        }
+        if (!found) r.model.metadata.emplace_back("description", options.description);
+    }
+    return r;
+}
+
+}  // namespace npf::edit
