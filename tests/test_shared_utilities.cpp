@@ -1,8 +1,11 @@
 // The small helpers the libraries and tools share from core (issue 18): one definition each, so
 // these pin what every caller gets.
+#include <npf/core/error.h>
 #include <npf/core/json_text.h>
+#include <npf/core/number_text.h>
 #include <npf/core/rec709_luminance.h>
 #include <npf/core/text.h>
+#include <npf/core/version.h>
 #include <npf/core/vec.h>
 #include <npf/shading/npf_equation.h>
 #include <npf/shading/table_interpolation.h>
@@ -10,7 +13,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -70,4 +76,46 @@ TEST(SharedUtilities, Rec709LuminanceIsTheFourDigitWeights) {
     EXPECT_NEAR(npf::rec709_luminance(1.0, 1.0, 1.0), 1.0, 1e-15);
     const float rgb[3] = {0.25f, 0.5f, 2.f};
     EXPECT_EQ(npf::rec709_luminance(rgb[0], rgb[1], rgb[2]), 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]);
+}
+
+namespace {
+
+// The message npf::Error carries for `text` read by `parse`, or "" when it is accepted.
+template <typename Parse>
+std::string problem_of(Parse parse) {
+    try {
+        parse();
+    } catch (const npf::Error& e) {
+        return e.problem();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(SharedUtilities, WholeNumbersReadTheSameEverywhere) {
+    EXPECT_EQ(npf::parse_whole_number("7", 1, 1024, "--threads"), 7u);
+    EXPECT_EQ(npf::parse_whole_number("18446744073709551615", 0, ~std::uint64_t(0), "--seed"), ~std::uint64_t(0));
+    for (const char* bad : {"0", "1025", "", "-3", "+5", " 5", "5 ", "1.5", "0x10", "18446744073709551616", "abc"}) {
+        EXPECT_EQ(problem_of([&] { npf::parse_whole_number(bad, 1, 1024, "--threads"); }),
+                  std::string("needs a whole number in [1, 1024], got '") + bad + "'")
+            << bad;
+    }
+}
+
+TEST(SharedUtilities, FiniteNumbersAndNumberLists) {
+    EXPECT_EQ(npf::parse_finite_number("-2.5e-3", "--x"), -2.5e-3);
+    for (const char* bad : {"", "nan", "inf", "1e999", "1,2", "2x", " "}) {
+        EXPECT_EQ(problem_of([&] { npf::parse_finite_number(bad, "--x"); }), std::string("'") + bad + "' is not a number") << bad;
+    }
+    EXPECT_EQ(npf::parse_number_list("1.5"), std::vector<double>({1.5}));
+    EXPECT_EQ(npf::parse_number_list("0.2,3.1,-1"), std::vector<double>({0.2, 3.1, -1.0}));
+    for (const char* other : {"", ",", "1,,2", "1,2,", "Cu", "1,inf", "file.spd"}) {
+        EXPECT_FALSE(npf::parse_number_list(other).has_value()) << other;
+    }
+}
+
+TEST(SharedUtilities, TheVersionIsTheProjectVersion) {
+    // Defined once (core/CMakeLists.txt); the tool prints it and the batch hashes it.
+    EXPECT_EQ(std::string(npf::version()), NPF_TEST_PROJECT_VERSION);
 }

@@ -8,6 +8,7 @@
 #include <npf/converter/convert_settings_table.h>
 #include <npf/converter/open_material.h>
 #include <npf/core/error.h>
+#include <npf/core/version.h>
 #include <npf/core/text.h>
 #include <npf/edit/recipe.h>
 #include <npf/render/default_environment.h>
@@ -44,9 +45,6 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#ifndef NPF_VERSION_STRING
-#define NPF_VERSION_STRING "unknown"
-#endif
 
 namespace npf::batch {
 
@@ -203,7 +201,7 @@ bool ends_with(const std::string& s, const char* tail) {
 
 std::string hash_text(const MaterialJob& job, bool source_isotropic, const std::string& input_sha) {
     std::string t = "npf batch content hash " + std::to_string(kContentHashVersion) + "\n";
-    t += "npf " NPF_VERSION_STRING ", texture format " + std::to_string(npf_exr::kFormatVersion) + "\n";
+    t += std::string("npf ") + version() + ", texture format " + std::to_string(npf_exr::kFormatVersion) + "\n";
     t += "input " + input_sha + "\n";
     const ConvertSettings settings = resolve_convert_settings(job.settings, source_isotropic);
     const bool isotropic = settings.isotropy == Isotropy::Auto ? source_isotropic : settings.isotropy == Isotropy::Isotropic;

@@ -3,6 +3,7 @@
 #include "commands.h"
 
 #include <npf/core/error.h>
+#include <npf/core/version.h>
 
 #include <cstdio>
 #include <cstring>
@@ -27,10 +28,6 @@
 #include <eigen3/Eigen/src/Core/util/Macros.h>
 #endif
 
-// Set for this target by tools/npf/CMakeLists.txt (the project version).
-#ifndef NPF_VERSION_STRING
-#define NPF_VERSION_STRING "unknown"
-#endif
 
 namespace {
 
@@ -80,7 +77,7 @@ void print_version() {
 #ifdef EIGEN_WORLD_VERSION
     add("Eigen", NPF_STR(EIGEN_WORLD_VERSION) "." NPF_STR(EIGEN_MAJOR_VERSION) "." NPF_STR(EIGEN_MINOR_VERSION));
 #endif
-    std::printf("npf %s\n", NPF_VERSION_STRING);
+    std::printf("npf %s\n", npf::version());
     if (!libraries.empty()) std::printf("%s\n", libraries.c_str());
 }
 
