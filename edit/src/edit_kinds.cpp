@@ -3,8 +3,6 @@
 #include <npf/core/error.h>
 #include <npf/core/number_text.h>
 
-#include <cmath>
-#include <cstdlib>
 
 namespace npf::edit {
 

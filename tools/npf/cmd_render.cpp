@@ -17,10 +17,8 @@
 #include <npf/render/path_tracer.h>
 #include <npf/render/render_output.h>
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
