@@ -56,17 +56,7 @@ color::SampledSpectrum parse_any_spectrum(const Context& cx, const YAML::Node& n
         return cx.at(value, kind, [&] { return color::read_spd(path); });
     }
     if (!value.IsSequence() || value.size() == 0) cx.fail(value, kind, "expected [[wavelength_nm, value], ...]");
-    std::vector<double> wl, v;
-    for (const YAML::Node& row : value) {
-        if (!row.IsSequence() || row.size() != 2) cx.fail(row, kind, "each row is [wavelength_nm, value]");
-        wl.push_back(cx.number(row[0], kind));
-        v.push_back(cx.number(row[1], kind));
-    }
-    try {
-        return color::SampledSpectrum(wl, v);
-    } catch (const Error& e) {
-        cx.fail(value, kind, e.problem());
-    }
+    return cx.spectrum_rows(value, kind);
 }
 
 // Weights, albedos and indices: spectra whose values may not be negative.

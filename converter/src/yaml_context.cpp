@@ -80,4 +80,14 @@ void YamlContext::only(const YAML::Node& map, const std::string& key, const std:
     }
 }
 
+color::SampledSpectrum YamlContext::spectrum_rows(const YAML::Node& rows, const std::string& key) const {
+    std::vector<double> wl, v;
+    for (const YAML::Node& row : rows) {
+        if (!row.IsSequence() || row.size() != 2) fail(row, key, "each row is [wavelength_nm, value]");
+        wl.push_back(number(row[0], key));
+        v.push_back(number(row[1], key));
+    }
+    return at(rows, key, [&] { return color::SampledSpectrum(wl, v); });
+}
+
 }  // namespace npf

@@ -21,13 +21,7 @@ color::SampledSpectrum recipe_spectrum(const YamlContext& cx, const YAML::Node& 
         return cx.at(node, key, [&] { return color::read_spd(p); });
     }
     if (!node.IsSequence() || node.size() == 0) cx.fail(node, key, "expected a number, a .spd file or [[wavelength_nm, value], ...]");
-    std::vector<double> wl, v;
-    for (const YAML::Node& row : node) {
-        if (!row.IsSequence() || row.size() != 2) cx.fail(row, key, "each row is [wavelength_nm, value]");
-        wl.push_back(cx.number(row[0], key));
-        v.push_back(cx.number(row[1], key));
-    }
-    return cx.at(node, key, [&] { return color::SampledSpectrum(wl, v); });
+    return cx.spectrum_rows(node, key);
 }
 
 color::Rgb recipe_rgb(const YamlContext& cx, const YAML::Node& node, const std::string& key) {

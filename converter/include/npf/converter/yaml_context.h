@@ -4,6 +4,7 @@
 // Needs yaml-cpp (which every user of it already parses with).
 #pragma once
 
+#include <npf/color/spectrum.h>
 #include <npf/core/error.h>
 
 #include <yaml-cpp/yaml.h>
@@ -29,6 +30,10 @@ struct YamlContext {
     std::string text(const YAML::Node& node, const std::string& key) const;  // any scalar
     // A non-empty path, relative ones from base_dir.
     std::string path(const YAML::Node& node, const std::string& key) const;
+
+    // A spectrum written as rows [[wavelength_nm, value], ...] (material and edit recipes alike):
+    // each row two numbers, wavelengths strictly ascending. `rows` must be a sequence.
+    color::SampledSpectrum spectrum_rows(const YAML::Node& rows, const std::string& key) const;
 
     // Every key of `map` must be one of `allowed`, each once, and hold a value unless listed in
     // `may_be_empty`. YAML parsers keep one of two equal keys silently; a file should not.
