@@ -5,7 +5,7 @@
 #include "npf_test_factors.h"
 
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/edit/albedo.h>
+#include <npf/shading/npf_albedo.h>
 #include <npf/edit/recipe.h>
 
 #include <gtest/gtest.h>
@@ -53,7 +53,7 @@ std::vector<double> brute_force_albedo(const NpfModel& m, const Vec3& wi, int n)
 TEST(EditAlbedo, DiffuseTermIsPiRhoD) {
     const NpfModel m = material(0.3, 0.3, 0.2, 0.0);
     for (double t : {0.0, 45.0, 80.0}) {
-        const std::vector<double> a = npf::edit::directional_albedo(m, npf::spherical_direction(float(t * kPi / 180), 0.f));
+        const std::vector<double> a = npf::npf_directional_albedo(m, npf::spherical_direction(float(t * kPi / 180), 0.f));
         for (std::size_t c = 0; c < a.size(); ++c) EXPECT_NEAR(a[c], kPi * m.rho_d[c], 1e-6);
     }
 }
@@ -65,7 +65,7 @@ TEST(EditAlbedo, HalfVectorIntegralMatchesBruteForce) {
         const NpfModel m = material(0.25, aniso ? 0.5 : 0.25, 0.05, 0.125, aniso);
         for (double t : {0.0, 40.0, 70.0}) {
             const Vec3 wi = npf::spherical_direction(float(t * kPi / 180), 0.7f);
-            const std::vector<double> a = npf::edit::directional_albedo(m, wi);
+            const std::vector<double> a = npf::npf_directional_albedo(m, wi);
             const std::vector<double> b = brute_force_albedo(m, wi, 400);
             std::printf("[ measured ] %s, theta_i %g: albedo %.5f (half-vector grid), %.5f (brute force)\n",
                         aniso ? "anisotropic" : "isotropic", t, a[0], b[0]);
@@ -79,7 +79,7 @@ TEST(EditAlbedo, WhiteMicrofacetMaterialStaysBelowOne) {
     // the gauge, so rho_s = 0.25 is a material brighter than any real one near grazing and a
     // real white one near normal incidence.
     const NpfModel sharp = material(0.05, 0.05, 0.0, 0.125);
-    const npf::edit::AlbedoReport r = npf::edit::albedo_report(sharp);
+    const npf::AlbedoPeak r = npf::npf_largest_albedo(sharp);
     std::printf("[ measured ] GGX 0.05, Schlick F0 0.5: largest albedo %.4f at theta_i %g\n", r.max, r.theta_deg);
     EXPECT_LE(r.max, 1.0);
     EXPECT_GT(r.max, 0.4);

@@ -26,7 +26,7 @@ namespace {
 
 using npf::NpfModel;
 using npf::edit::AlbedoLimit;
-using npf::edit::AlbedoOptions;
+using npf::NpfAlbedoQuadrature;
 constexpr double kPi = npf::kPiD;
 
 // make_microfacet_factors' Schlick F is 1 at normal incidence and 2 at grazing in the fitter's
@@ -52,8 +52,8 @@ NpfModel material(double rho_d, double rho_s, bool anisotropic = false, bool spe
 }
 
 // The albedo quadrature limit_albedo uses for `m` by default.
-AlbedoOptions step_quadrature(const NpfModel& m) {
-    AlbedoOptions q;
+NpfAlbedoQuadrature step_quadrature(const NpfModel& m) {
+    NpfAlbedoQuadrature q;
     if (!m.isotropic()) q.u_cells = q.phi_cells = 64;
     return q;
 }
@@ -63,11 +63,11 @@ npf::Vec3 cell_centre(const NpfModel& m, int k, int j) {
 }
 
 // The largest albedo over every G cell centre and channel.
-double largest_at_centres(const NpfModel& m, const AlbedoOptions& q) {
+double largest_at_centres(const NpfModel& m, const NpfAlbedoQuadrature& q) {
     double worst = 0.0;
     for (int k = 0; k < m.g_theta; ++k) {
         for (int j = 0; j < m.g_phi; ++j) {
-            for (double a : npf::edit::directional_albedo(m, cell_centre(m, k, j), q)) worst = std::max(worst, a);
+            for (double a : npf::npf_directional_albedo(m, cell_centre(m, k, j), q)) worst = std::max(worst, a);
         }
     }
     return worst;
@@ -76,7 +76,7 @@ double largest_at_centres(const NpfModel& m, const AlbedoOptions& q) {
 TEST(EditAlbedoLimit, GrazingGainIsCappedAtEveryCellCentreAndNowhereElseChanged) {
     // A cap of 0.8 that only the grazing views exceed.
     const NpfModel in = material(0.02, 0.2);
-    const AlbedoOptions q = step_quadrature(in);
+    const NpfAlbedoQuadrature q = step_quadrature(in);
     const double before = largest_at_centres(in, q);
     AlbedoLimit limit;
     limit.cap = 0.8;
@@ -89,7 +89,7 @@ TEST(EditAlbedoLimit, GrazingGainIsCappedAtEveryCellCentreAndNowhereElseChanged)
     EXPECT_LE(after, 0.8);
     EXPECT_GE(after, 0.79) << "the cap should be reached, not undershot by much";
     // A finer quadrature agrees within the margin.
-    AlbedoOptions fine;
+    NpfAlbedoQuadrature fine;
     fine.u_cells = 256;
     fine.phi_cells = 128;
     EXPECT_LE(largest_at_centres(out, fine), 0.8 * (1.0 + 1e-3));
@@ -97,7 +97,7 @@ TEST(EditAlbedoLimit, GrazingGainIsCappedAtEveryCellCentreAndNowhereElseChanged)
     double between = 0.0;
     for (int k = 0; k + 1 < out.g_theta; ++k) {
         const npf::Vec3 w = npf::spherical_direction(float(0.5 * kPi * (k + 1.0) / out.g_theta), 0.f);
-        for (double a : npf::edit::directional_albedo(out, w, q)) between = std::max(between, a);
+        for (double a : npf::npf_directional_albedo(out, w, q)) between = std::max(between, a);
     }
     std::printf("[ measured ] largest albedo half-way between centres: %.6f\n", between);
     EXPECT_LE(between, 0.8 * 1.01);
@@ -111,7 +111,7 @@ TEST(EditAlbedoLimit, GrazingGainIsCappedAtEveryCellCentreAndNowhereElseChanged)
     EXPECT_EQ(out.rho_s, in.rho_s);
     int changed = 0;
     for (int k = 0; k + 2 < in.g_theta; ++k) {
-        const std::vector<double> a = npf::edit::directional_albedo(in, cell_centre(in, k, 0), q);
+        const std::vector<double> a = npf::npf_directional_albedo(in, cell_centre(in, k, 0), q);
         const bool needed = *std::max_element(a.begin(), a.end()) > limit.cap * (1.0 - limit.margin);
         for (int r = 0; r < in.G.rank; ++r) {
             const float x = in.G.basis[std::size_t(r) * in.G.cells + std::size_t(k)];
@@ -133,9 +133,9 @@ TEST(EditAlbedoLimit, AlbedoStaysBoundedUpToTheHorizon) {
     // ends above 0 there, the albedo grows like 1 / cos(theta) (the bright material below
     // reaches several times 1 within a hundredth of a degree of the horizon).
     const NpfModel in = material(0.02, 0.2);
-    const AlbedoOptions q = step_quadrature(in);
+    const NpfAlbedoQuadrature q = step_quadrature(in);
     auto largest_at = [&](const NpfModel& m, double theta_deg) {
-        const std::vector<double> a = npf::edit::directional_albedo(m, npf::spherical_direction(float(theta_deg * kPi / 180), 0.f), q);
+        const std::vector<double> a = npf::npf_directional_albedo(m, npf::spherical_direction(float(theta_deg * kPi / 180), 0.f), q);
         return *std::max_element(a.begin(), a.end());
     };
     const NpfModel out = npf::edit::limit_albedo(in, AlbedoLimit{});
@@ -167,7 +167,7 @@ TEST(EditAlbedoLimit, ConvertsEnergyCheckFlagsTheHorizonAndTheEditClearsIt) {
 TEST(EditAlbedoLimit, MaterialTooBrightEverywhereEndsAtTheCapNotFarBelow) {
     // Every cell lowers every other's albedo here: single exact steps would end near 0.47.
     const NpfModel in = material(0.02, 0.6);
-    const AlbedoOptions q = step_quadrature(in);
+    const NpfAlbedoQuadrature q = step_quadrature(in);
     const double before = largest_at_centres(in, q);
     npf::edit::EditRecord rec;
     const NpfModel out = npf::edit::limit_albedo(in, AlbedoLimit{}, &rec);
@@ -204,7 +204,7 @@ TEST(EditAlbedoLimit, LowerCapOnAnAnisotropicSpectralMaterialKeepsTheCompression
     AlbedoLimit limit;
     limit.cap = 0.5;
     const NpfModel out = npf::edit::limit_albedo(in, limit);
-    const AlbedoOptions q = step_quadrature(in);
+    const NpfAlbedoQuadrature q = step_quadrature(in);
     const double before = largest_at_centres(in, q), after = largest_at_centres(out, q);
     std::printf("[ measured ] anisotropic, 6 wavelengths, cap 0.5: %.4f before, %.6f after\n", before, after);
     ASSERT_GT(before, 0.5);

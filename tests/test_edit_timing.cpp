@@ -3,7 +3,7 @@
 #include "npf_test_factors.h"
 
 #include <npf/converter/fit/spectral_compression.h>
-#include <npf/edit/albedo.h>
+#include <npf/shading/npf_albedo.h>
 #include <npf/edit/colour_edits.h>
 #include <npf/edit/ndf_transform.h>
 #include <npf/edit/thin_film.h>
@@ -72,7 +72,7 @@ TEST(SlowEditTiming, PaperSizedMaterial) {
     const double t_film = seconds_since(t);
 
     t = std::chrono::steady_clock::now();
-    const npf::edit::AlbedoReport a = npf::edit::albedo_report(stretched);
+    const npf::AlbedoPeak a = npf::npf_largest_albedo(stretched);
     const double t_albedo = seconds_since(t);
     std::printf("[ measured ] paper-sized material (195 wavelengths, ranks 8/6): ndf stretch %.2f s, inverse %.2f s "
                 "(round trip D rel. RMS %.4f); diffuse %.3f s; thin film (fitted base) %.3f s; albedo check %.2f s "

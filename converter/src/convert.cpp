@@ -3,6 +3,7 @@
 
 #include <npf/shading/npf_texture_file.h>
 #include <npf/core/directional_albedo.h>
+#include <npf/shading/npf_albedo.h>
 #include <npf/core/error.h>
 #include <npf/core/text.h>
 #include <npf/shading/npf_texture_layout.h>
@@ -248,20 +249,12 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
 
 EnergyCheck energy_check(const NpfModel& model, int threads) {
     EnergyCheck e;
-    const NpfBrdf check(model);
-    AlbedoTableOptions a;
-    a.theta_deg = albedo_bound_check_thetas();
-    a.estimator.samples = 32;
-    a.threads = threads;
-    for (const AlbedoRow& row : directional_albedo_table(check, check.native_query(), a)) {
-        for (std::size_t c = 0; c < row.albedo.size(); ++c) {
-            if (row.albedo[c] > e.albedo_max) {
-                e.albedo_max = row.albedo[c];
-                e.theta_deg = row.theta_deg;
-                e.channel = c;
-            }
-        }
-    }
+    AlbedoTableOptions views;
+    views.threads = threads;
+    const AlbedoPeak peak = npf_largest_albedo(model, views);
+    e.albedo_max = peak.max;
+    e.theta_deg = peak.theta_deg;
+    e.channel = peak.channel;
     e.unbounded_at_horizon = model.g_open_at_horizon();
     return e;
 }

@@ -44,8 +44,12 @@ std::string number_text(double v) {
 
 }  // namespace
 
-std::vector<double> directional_albedo(const Brdf& brdf, const Vec3& wi, const ChannelQuery& query,
-                                       const DirectionalAlbedoOptions& options, std::vector<double>* standard_error) {
+namespace {
+
+// directional_albedo, and whether the material's quadrature answered.
+std::vector<double> estimate(const Brdf& brdf, const Vec3& wi, const ChannelQuery& query,
+                             const DirectionalAlbedoOptions& options, std::vector<double>* standard_error,
+                             bool& by_quadrature) {
     if (!(wi.z > 0.f) || !std::isfinite(wi.x) || !std::isfinite(wi.y) || !std::isfinite(wi.z))
         throw Error("directional albedo", "wi must point above the horizon (wi.z > 0), got (" + number_text(wi.x) +
                                               ", " + number_text(wi.y) + ", " + number_text(wi.z) + ")");
@@ -53,6 +57,12 @@ std::vector<double> directional_albedo(const Brdf& brdf, const Vec3& wi, const C
         throw Error("directional albedo", "samples must be in 2..65536, got " + std::to_string(options.samples));
 
     const std::size_t channels = query.size();
+    std::vector<double> exact;
+    by_quadrature = options.material_quadrature && brdf.albedo_by_quadrature(wi, query, exact);
+    if (by_quadrature) {
+        if (standard_error) standard_error->assign(channels, 0.0);
+        return exact;
+    }
     const int n = options.samples;
     const double cells = double(n) * double(n);
     std::vector<float> f(channels);
@@ -105,9 +115,15 @@ std::vector<double> directional_albedo(const Brdf& brdf, const Vec3& wi, const C
     return albedo;
 }
 
-std::vector<double> default_albedo_thetas() { return {0, 10, 20, 30, 40, 50, 60, 70, 80, 85, 87, 89}; }
+}  // namespace
 
-std::vector<double> albedo_bound_check_thetas() { return {0, 30, 60, 75, 85, 89}; }
+std::vector<double> directional_albedo(const Brdf& brdf, const Vec3& wi, const ChannelQuery& query,
+                                       const DirectionalAlbedoOptions& options, std::vector<double>* standard_error) {
+    bool by_quadrature = false;
+    return estimate(brdf, wi, query, options, standard_error, by_quadrature);
+}
+
+std::vector<double> default_albedo_thetas() { return {0, 10, 20, 30, 40, 50, 60, 70, 80, 85, 87, 89}; }
 
 std::vector<double> default_albedo_azimuths(bool isotropic) {
     if (isotropic) return {0.0};
@@ -142,13 +158,30 @@ std::vector<AlbedoRow> directional_albedo_table(const Brdf& brdf, const ChannelQ
     }
     auto compute = [&](AlbedoRow& row) {
         const Vec3 wi = spherical_direction(float(row.theta_deg * kDegToRad), float(row.phi_deg * kDegToRad));
-        row.albedo = directional_albedo(brdf, wi, query, options.estimator, &row.standard_error);
+        row.albedo = estimate(brdf, wi, query, options.estimator, &row.standard_error, row.by_quadrature);
     };
 
     // Whole directions per item: each row is summed by one thread in a fixed order, so the
     // results are the same for any thread count.
     parallel_for(rows.size(), [&](std::size_t k) { compute(rows[k]); }, options.threads);
     return rows;
+}
+
+AlbedoPeak largest_albedo(const std::vector<AlbedoRow>& rows) {
+    AlbedoPeak peak;
+    bool first = true;
+    for (const AlbedoRow& row : rows) {
+        for (std::size_t c = 0; c < row.albedo.size(); ++c) {
+            if (first || row.albedo[c] > peak.max) {
+                peak.max = row.albedo[c];
+                peak.theta_deg = row.theta_deg;
+                peak.phi_deg = row.phi_deg;
+                peak.channel = c;
+                first = false;
+            }
+        }
+    }
+    return peak;
 }
 
 }  // namespace npf

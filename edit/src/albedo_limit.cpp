@@ -53,7 +53,7 @@ public:
         Need n;
         for (int a = 0; a < azimuths; ++a) {
             const double phi = m.g_phi == 1 ? 2.0 * kPiD * a / azimuths : 2.0 * kPiD * (j + 0.5) / m.g_phi;
-            const std::vector<double> albedo = directional_albedo(m, spherical_direction(float(theta), float(phi)), quadrature);
+            const std::vector<double> albedo = npf_directional_albedo(m, spherical_direction(float(theta), float(phi)), quadrature);
             for (std::size_t c = 0; c < albedo.size(); ++c) {
                 n.largest = std::max(n.largest, albedo[c]);
                 const double diffuse = kPiD * m.rho_d[c], specular = albedo[c] - diffuse;
@@ -158,7 +158,7 @@ public:
     const double target;
     const std::size_t cells;
     std::vector<double> total;  // the factor applied to each G cell so far
-    AlbedoOptions quadrature;
+    NpfAlbedoQuadrature quadrature;
     int azimuths = 1;
 };
 

@@ -6,6 +6,7 @@
 #include <npf/edit/colour_edits.h>
 #include <npf/edit/compression.h>
 #include <npf/core/error.h>
+#include <npf/shading/npf_albedo.h>
 #include <npf/shading/npf_texture_file.h>
 
 namespace npf::edit {
@@ -53,7 +54,7 @@ EditResult apply_edits(const NpfModel& model, const std::vector<EditStep>& steps
     EditResult r;
     r.model = model;
     int next = detail::next_history_number(model);
-    if (options.check_albedo) r.input_albedo = r.output_albedo = albedo_report(model, options.albedo);
+    if (options.check_albedo) r.input_albedo = r.output_albedo = npf_largest_albedo(model, options.albedo);
     const double limit = 1.0 + options.albedo_tolerance;
     for (std::size_t i = 0; i < steps.size(); ++i) {
         const EditStep& s = steps[i];
@@ -67,11 +68,15 @@ EditResult apply_edits(const NpfModel& model, const std::vector<EditStep>& steps
         }
         if (options.check_albedo) {
             // An edit that changed nothing (an identity) keeps the last measurement.
-            const AlbedoReport a = same_factors(before, r.model) ? r.output_albedo : albedo_report(r.model, options.albedo);
+            const AlbedoPeak a = same_factors(before, r.model) ? r.output_albedo : npf_largest_albedo(r.model, options.albedo);
             const std::string where = "theta_i " + detail::num(a.theta_deg, 3) + " deg, phi_i " + detail::num(a.phi_deg, 3) +
                                       " deg, channel " + std::to_string(a.channel);
             rec.summary += "; largest directional albedo " + detail::num(a.max, 4) + " (" + where + ")";
-            if (a.max > limit) {
+            // A warning when this step takes the albedo above the limit, or, where the material
+            // already exceeded it (a fit gaining light at grazing views), raises it by more than
+            // the tolerance again: a step that leaves a known excess alone is not blamed for it.
+            const double previous = r.output_albedo.max;
+            if (a.max > limit && (previous <= limit || a.max > previous + options.albedo_tolerance)) {
                 std::string w = "the directional albedo reaches " + detail::num(a.max, 4) + " (" + where +
                                 "): the material reflects more light than it receives";
                 if (r.input_albedo.max > limit) w += " (the input already reached " + detail::num(r.input_albedo.max, 4) + ")";

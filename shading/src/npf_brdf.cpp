@@ -2,6 +2,7 @@
 
 #include <npf/core/text.h>
 
+#include <npf/shading/npf_albedo.h>
 #include <npf/shading/npf_texture_file.h>
 
 #include <npf/core/error.h>
@@ -94,6 +95,20 @@ bool NpfBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, B
     s.wo = c.light;
     s.pdf = ok ? c.pdf : 0.f;
     return ok;
+}
+
+// In memory the model's tables are at hand: the quadrature on them (npf_albedo.h). Channels
+// between stored wavelengths blend the stored channels' albedos with eval's own weights (eval
+// blends values, and the integral is linear). The texture path has no D or G tables here.
+bool NpfBrdf::albedo_by_quadrature(const Vec3& wi, const ChannelQuery& query, std::vector<double>& albedo) const {
+    if (m_closure->path() != NpfClosure::Path::Memory) return false;
+    const std::vector<double> stored = npf_directional_albedo(m_closure->model(), wi);
+    albedo.assign(query.size(), 0.0);
+    for (std::size_t k = 0; k < query.size(); ++k) {
+        const double t = query.weight1[k], a = stored[query.index0[k]];
+        albedo[k] = t == 0.f ? a : (1.0 - t) * a + t * stored[query.index1[k]];
+    }
+    return true;
 }
 
 }  // namespace npf

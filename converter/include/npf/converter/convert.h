@@ -138,13 +138,14 @@ std::vector<double> energy_error_views_deg();
 // which read as a 3.0 % error where 160 measure 0.7 %; 160 cost about a second.
 inline constexpr int kEnergyErrorSamples = 160;
 
-// Above this largest directional albedo a conversion is reported as gaining light: 1 plus the
-// energy check's accuracy (about 1 %), so that estimator noise alone does not trigger it.
+// Above this largest directional albedo a conversion is reported as gaining light: 1 plus 1 %,
+// five times the energy check's accuracy (about 2e-3), so that no quadrature error triggers it.
 inline constexpr double kGainsLightAlbedo = 1.01;
 
 // The energy check npf convert runs on what it writes, and the `albedo_max` metadata it stores:
-// the largest directional albedo over the views 0, 30, 60, 75, 85 and 89 degrees (azimuths as
-// default_albedo_azimuths), by npf albedo's estimator at 32 x 32 cells, about 1 % accurate.
+// the largest directional albedo over the default views (default_albedo_thetas and
+// default_albedo_azimuths, those of npf albedo and npf edit's check), by the one estimator
+// (directional_albedo.h: for a model, its quadrature, within about 2e-3).
 struct EnergyCheck {
     double albedo_max = 0.0, theta_deg = 0.0;
     std::size_t channel = 0;

@@ -69,6 +69,12 @@ public:
     virtual bool sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
                         float* weight) const = 0;
 
+    // The directional albedo at wi (directional_albedo.h) by a deterministic quadrature the
+    // material integrates on its own tables, for query.size() channels; false when it has none,
+    // and npf::directional_albedo then uses its Monte Carlo estimator. Called only with wi
+    // strictly above the horizon. A factor texture in memory answers (NpfBrdf).
+    virtual bool albedo_by_quadrature(const Vec3& wi, const ChannelQuery& query, std::vector<double>& albedo) const;
+
     // The request resolved against this source's stored channels (throws npf::Error when the
     // source cannot provide it). Sources that compute any channel (analytic models) override.
     virtual ChannelQuery query(const Channels& requested) const;

@@ -2,7 +2,12 @@
 //   a(wi) = integral over the hemisphere of f_r(wi, wo) cos(theta_o) d(wo),
 // the share of light from wi that is reflected (wi the conditioned, camera-side direction).
 //
-// Estimator (docs/albedo.md): two strategies, each with one point in every cell of an N x N grid
+// One entry point for every report (npf albedo, npf convert's energy check and metadata, npf
+// edit's check and cap): a material that integrates its own tables deterministically answers
+// through Brdf::albedo_by_quadrature (a factor texture in memory: shading/npf_albedo.h, within
+// about 2e-3); every other material goes to the Monte Carlo estimator below.
+//
+// Monte Carlo estimator (docs/albedo.md): two strategies, each with one point in every cell of an N x N grid
 // over [0,1)^2, combined by multiple importance sampling with the balance heuristic:
 //  1. the material's own `sample` (its density s.pdf), which follows sharp lobes;
 //  2. cosine-weighted hemisphere directions (density cos(theta_o) / pi), which reach every
@@ -26,24 +31,25 @@ struct DirectionalAlbedoOptions {
     // keeps the estimate within about 0.1 % on rough and mirror-sharp lobes alike, grazing views
     // included (measured in docs/albedo.md), so that a 1 % difference stands out.
     int samples = 128;
+    // false: the Monte Carlo estimator even where the material has a quadrature (to check one
+    // against the other).
+    bool material_quadrature = true;
 };
 
 // a(wi) per channel of `query` (query.size() values). Throws npf::Error when wi is not a finite
 // direction strictly above the horizon (wi.z <= 0 has no albedo under the one-sided convention)
 // or when options.samples is outside 2..65536. When `standard_error` is not null it receives, per
 // channel, the collapsed-strata estimate of the standard error (pairs of neighbouring cells;
-// slightly conservative for smooth integrands; measured errors stayed below 2.6 of it).
+// slightly conservative for smooth integrands; measured errors stayed below 2.6 of it), or 0 per
+// channel when the material's quadrature answered (deterministic, no sampling error).
 std::vector<double> directional_albedo(const Brdf& brdf, const Vec3& wi, const ChannelQuery& query,
                                        const DirectionalAlbedoOptions& options = {},
                                        std::vector<double>* standard_error = nullptr);
 
-// The view angles of the table by default (degrees): dense towards grazing, where conversions
-// and measurements disagree most. npf albedo and npf edit's check after each step measure here.
+// The one set of view angles (degrees) every albedo report uses: dense towards grazing, where
+// conversions and measurements disagree most and fits gain light. npf albedo, npf convert's
+// energy check (the albedo_max metadata) and npf edit's check after each step measure here.
 std::vector<double> default_albedo_thetas();
-// The quick bound check npf convert runs after every fit (at 32 x 32 cells per strategy): six
-// views from normal to almost grazing, where a fit gains light. Kept apart from the default so
-// that conversions keep their bytes (the result is in the file's metadata).
-std::vector<double> albedo_bound_check_thetas();
 // Azimuths (degrees) for a material: {0} when isotropic, else kAnisotropicAlbedoAzimuths evenly
 // spread over the full circle (0, 90, 180, 270): measured files need not be symmetric.
 constexpr int kAnisotropicAlbedoAzimuths = 4;
@@ -63,6 +69,7 @@ struct AlbedoRow {
     double theta_deg = 0.0, phi_deg = 0.0;
     std::vector<double> albedo;          // per channel of the query
     std::vector<double> standard_error;  // per channel, see directional_albedo
+    bool by_quadrature = false;          // the material's quadrature answered, not Monte Carlo
 };
 
 // One row per (theta, phi), theta outermost, in the order given: anisotropic materials are
@@ -71,5 +78,13 @@ struct AlbedoRow {
 // outside 2..65536.
 std::vector<AlbedoRow> directional_albedo_table(const Brdf& brdf, const ChannelQuery& query,
                                                 const AlbedoTableOptions& options = {});
+
+// The largest albedo of a table over its rows and channels, and where (the first on ties);
+// all 0 for an empty table.
+struct AlbedoPeak {
+    double max = 0.0, theta_deg = 0.0, phi_deg = 0.0;
+    std::size_t channel = 0;
+};
+AlbedoPeak largest_albedo(const std::vector<AlbedoRow>& rows);
 
 }  // namespace npf

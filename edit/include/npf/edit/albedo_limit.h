@@ -10,8 +10,8 @@
 // view's albedo rises: the last pass's exact factors bring every cell centre to the cap at most.
 #pragma once
 
-#include <npf/edit/albedo.h>
 #include <npf/edit/edit_record.h>
+#include <npf/shading/npf_albedo.h>
 #include <npf/shading/npf_model.h>
 
 #include <functional>
@@ -23,9 +23,10 @@ struct AlbedoLimit {
     // Cells are brought to cap (1 - margin), so that the quadrature's own error (below 2e-3
     // relative, docs/editing.md) does not leave them above the cap.
     double margin = 2e-3;
-    // Half-vector quadrature per cell centre (as AlbedoOptions; 0 chooses). An anisotropic G has
-    // g_theta x g_phi centres (16,200 at the paper's size), so 0 there means 64 x 64 cells, about
-    // a sixth of the check's cost per direction.
+    // Half-vector quadrature per cell centre (as NpfAlbedoQuadrature; 0 chooses). An anisotropic G has
+    // g_theta x g_phi centres (16,200 at the paper's size), so 0 there means 64 x 64 cells, for
+    // speed: coarser than the check's default (npf_albedo.h), which may read slightly more at
+    // grazing views of sharp anisotropic lobes.
     int u_cells = 0, phi_cells = 0;
     // Passes over the G cells (see albedo_limit.cpp): the last one takes the exact factor,
     // the ones before its square root, so that cells lowering each other do not overshoot.

@@ -20,7 +20,7 @@
 // keys are the edit kinds' (edit_kinds.h; one file each in edit/src/kinds/).
 #pragma once
 
-#include <npf/edit/albedo.h>
+#include <npf/core/directional_albedo.h>
 #include <npf/edit/albedo_limit.h>
 #include <npf/edit/edit_kinds.h>
 #include <npf/edit/edit_record.h>
@@ -38,8 +38,9 @@ namespace npf::edit {
 struct EditOptions {
     NdfTransformOptions ndf;
     bool check_albedo = true;
-    double albedo_tolerance = 0.005;  // warn when the directional albedo exceeds 1 + this
-    AlbedoOptions albedo;
+    double albedo_tolerance = 0.005;  // warn when a step takes the directional albedo above 1 + this
+    // The check after each step: the default views (default_albedo_thetas) and threads.
+    AlbedoTableOptions albedo;
     std::string description;  // non-empty: replaces the `description` metadata
     // Long steps (limit_albedo on a large anisotropic material) report the fraction done here.
     std::function<void(double)> progress;
@@ -70,13 +71,14 @@ FilmBase parse_film_base(const std::string& text, const std::string& what);
 struct EditResult {
     NpfModel model;
     std::vector<EditRecord> records;  // one per step, in order
-    AlbedoReport input_albedo, output_albedo;  // when options.check_albedo
+    AlbedoPeak input_albedo, output_albedo;  // when options.check_albedo
     std::vector<std::string> history_keys;    // the metadata keys added (edit_001, ...)
 };
 
 // Applies the steps in order, each to the result of the previous. After each step the
-// directional albedo is checked (options.check_albedo): above 1 + tolerance adds a warning to
-// that step's record. Appends one metadata entry per step, "edit_NNN" (numbered on from the
+// directional albedo is checked (options.check_albedo, the default views, the one estimator of
+// directional_albedo.h): a step that takes it above 1 + tolerance, or raises an excess the
+// material already had by more than the tolerance, gets a warning in its record. Appends one metadata entry per step, "edit_NNN" (numbered on from the
 // highest already in the model, so a file edited twice keeps both histories), whose value is the
 // step's label, its summary, the largest albedo and any warnings. `on_step` (optional) sees each
 // record as it is made. Throws npf::Error naming the step's origin.

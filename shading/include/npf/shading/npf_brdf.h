@@ -30,6 +30,8 @@ public:
     float pdf(const Vec3& wi, const Vec3& wo) const override;
     bool sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
                 float* weight) const override;
+    // On the memory path: npf_directional_albedo on the model's tables.
+    bool albedo_by_quadrature(const Vec3& wi, const ChannelQuery& query, std::vector<double>& albedo) const override;
 
     // Complete on the memory path; without D and G tables on the texture path.
     const NpfModel& model() const { return m_closure->model(); }
