@@ -1,5 +1,7 @@
 #include <npf/shading/npf_closure.h>
 
+#include "finite_float.h"
+
 #include "luminance.h"
 #include "texture_tables.h"
 
@@ -19,13 +21,6 @@ namespace npf {
 namespace {
 
 constexpr double kInvPi = 1.0 / kPiD;
-
-// Finite float of a double (a grazing view can push f_r cos / pdf past float's range).
-float finite_float(double v) {
-    constexpr double kMax = std::numeric_limits<float>::max();
-    if (!(v == v)) return 0.f;
-    return float(std::clamp(v, -kMax, kMax));
-}
 
 Vec3 reflect(const Vec3& w, const Vec3& h) {
     const float d = 2.f * dot(w, h);
@@ -143,11 +138,11 @@ bool NpfClosure::lookup(const Vec3& view, const Vec3& light, NpfModel::Lookup& a
     return m_texture->fill(at);
 }
 
-void NpfClosure::write_values(const NpfModel::Lookup& at, double cos_light, WavelengthRequest request,
-                              float* value) const {
+void NpfClosure::write_values(const NpfModel::Lookup& at, double cos_light, WavelengthRequest request, float* value,
+                              std::size_t stride) const {
     const std::size_t C = m_model.channel_count();
     if (m_model.channels.is_rgb() || !request.nm) {
-        for (std::size_t c = 0; c < C; ++c) value[c] = finite_float(std::max(0.0, m_model.value(at, c)) * cos_light);
+        for (std::size_t c = 0; c < C; ++c) value[c * stride] = finite_float(std::max(0.0, m_model.value(at, c)) * cos_light);
         return;
     }
     for (int k = 0; k < request.count; ++k) {
@@ -156,7 +151,7 @@ void NpfClosure::write_values(const NpfModel::Lookup& at, double cos_light, Wave
         m_wavelengths.locate(request.nm[k], i0, i1, t);
         const double a = m_model.value(at, i0);
         const double v = t == 0.f ? a : (1.0 - t) * a + t * m_model.value(at, i1);
-        value[k] = finite_float(std::max(0.0, v) * cos_light);
+        value[std::size_t(k) * stride] = finite_float(std::max(0.0, v) * cos_light);
     }
 }
 
@@ -186,18 +181,22 @@ float NpfClosure::pdf(const Vec3& view, const Vec3& light) const {
     return pdf_at(h.theta_h, h.u_h, h.phi_h, h.cos_d, h.cos_o);
 }
 
-bool NpfClosure::sample_direction(const Vec3& view, float u1, float u2, ClosureSample& s) const {
+bool NpfClosure::draw_light(const Vec3& view, float u1, float u2, Vec3& light) const {
     if (!(view.z > 0.f)) return false;
     const double pd = m_diffuse_probability;
     if (u2 < pd) {
         // Stretch u2 back to [0, 1) for the strategy's own use.
         const float v = std::min(float(u2 / pd), 0x1.fffffep-1f);
-        s.light = cosine_hemisphere_direction(Vec2{u1, v});
+        light = cosine_hemisphere_direction(Vec2{u1, v});
     } else {
         const float v = std::min(float((u2 - pd) / (1.0 - pd)), 0x1.fffffep-1f);
-        s.light = reflect(view, m_sampler.sample(u1, v));
+        light = reflect(view, m_sampler.sample(u1, v));
     }
-    if (!(s.light.z > 0.f)) return false;
+    return light.z > 0.f;
+}
+
+bool NpfClosure::sample_direction(const Vec3& view, float u1, float u2, ClosureSample& s) const {
+    if (!draw_light(view, u1, u2, s.light)) return false;
     s.pdf = pdf(view, s.light);
     return s.pdf > 0.f;
 }

@@ -15,16 +15,13 @@ namespace npf {
 namespace {
 
 using table::Lerp;
-using table::polar;
-using table::azimuth;
 using table::bilinear;
 
-// G's cell position for one direction.
-NpfModel::Lookup::Bilinear g_position(double x, double y, double z, int g_theta, int g_phi, double& row,
-                                      double& col) {
-    const Lerp r = equation::g_row(polar(x, y, z), g_theta);
-    // An isotropic table has one column: no azimuth to compute.
-    const Lerp c = g_phi == 1 ? Lerp{} : equation::column(azimuth(x, y), g_phi);
+// G's cell position for one direction, from its angles.
+NpfModel::Lookup::Bilinear g_position(double theta, double phi, int g_theta, int g_phi, double& row, double& col) {
+    const Lerp r = equation::g_row(theta, g_theta);
+    // An isotropic table has one column (its azimuth was not computed).
+    const Lerp c = g_phi == 1 ? Lerp{} : equation::column(phi, g_phi);
     row = r.i0 + r.t;
     col = c.i0 + c.t;
     return bilinear(r, c, g_phi);
@@ -240,53 +237,41 @@ void NpfModel::validate(const std::string& source) const {
 
 bool NpfModel::half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const {
     if (!(wi.z > 0.f) || !(wo.z > 0.f) || !finite(wi) || !finite(wo)) return false;
-    const double ix = wi.x, iy = wi.y, iz = wi.z;
-    // The angles of h = H / |H| are those of H = wi + wo: no normalisation on their path (a
-    // square root and a division less on the evaluation's longest dependency chain).
-    const double hx = ix + wo.x, hy = iy + wo.y, hz = iz + wo.z;
-    const double r2 = hx * hx + hy * hy;
-    h.cos_i = iz;
+    h.cos_i = wi.z;
     h.cos_o = wo.z;
-    h.theta_h = table::polar_of(std::sqrt(r2), hz);
-    h.phi_h = d_phi == 1 ? 0.0 : azimuth(hx, hy);
-    h.u_h = equation::u_of_theta_h(h.theta_h);
-    h.cos_d = (ix * hx + iy * hy + iz * hz) / std::sqrt(r2 + hz * hz);
+    half_vector_angles(wi.x, wi.y, wi.z, wo.x, wo.y, wo.z, d_phi > 1, h.theta_h, h.u_h, h.phi_h, h.cos_d);
     return true;
 }
 
 bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_bases) const {
-    HalfVector h;
-    if (!half_vector(wi, wo, h)) return false;
-    const double ix = wi.x, iy = wi.y, iz = wi.z, ox = wo.x, oy = wo.y, oz = wo.z;
-    // theta_d, the angle between wi and h, is half the angle between wi and wo:
-    // atan2(|wi x wo|, 1 + wi . wo) (the half-angle tangent), accurate at both ends and
-    // independent of h, so it runs beside theta_h rather than after it.
-    const double cx = iy * oz - iz * oy, cy = iz * ox - ix * oz, cz = ix * oy - iy * ox;
-    const double theta_d = table::polar_of(std::sqrt(cx * cx + cy * cy + cz * cz), 1.0 + (ix * ox + iy * oy + iz * oz));
-    const double phi_h = h.phi_h;
+    if (!(wi.z > 0.f) || !(wo.z > 0.f) || !finite(wi) || !finite(wo)) return false;
+    PairAngles a;
+    pair_angles(wi.x, wi.y, wi.z, wo.x, wo.y, wo.z, angle_needs(), a);
+    position(a, at, project_bases);
+    return true;
+}
 
-    at.cos_i = iz;
-    at.cos_o = oz;
-    at.inv_cos_product = 1.0 / (iz * oz);
-    at.theta_h = h.theta_h;
-    at.phi_h = h.phi_h;
-    at.u_h = h.u_h;
-    at.cos_d = h.cos_d;
+void NpfModel::position(const PairAngles& a, Lookup& at, bool project_bases) const {
+    at.cos_i = a.cos_i;
+    at.cos_o = a.cos_o;
+    at.inv_cos_product = a.inv_cos_product;
+    at.theta_h = a.theta_h;
+    at.phi_h = a.phi_h;
+    at.u_h = a.u_h;
+    at.cos_d = a.cos_d;
     const Lerp d_row = equation::d_row(at.u_h, d_theta);
-    const Lerp d_col = equation::column(phi_h, d_phi);
+    const Lerp d_col = equation::column(a.phi_h, d_phi);
     at.d_row = d_row.i0 + d_row.t;
     at.d_col = d_col.i0 + d_col.t;
     at.d = bilinear(d_row, d_col, d_phi);
-    const Lerp f = equation::f_row(theta_d, f_theta);
+    const Lerp f = equation::f_row(a.theta_d, f_theta);
     at.f0 = f.i0;
     at.f1 = f.i1;
     at.f_t = f.t;
-    at.g_i = g_position(ix, iy, iz, g_theta, g_phi, at.g_i_row, at.g_i_col);
-    at.g_o = g_position(ox, oy, oz, g_theta, g_phi, at.g_o_row, at.g_o_col);
+    at.g_i = g_position(a.theta_gi, a.phi_gi, g_theta, g_phi, at.g_i_row, at.g_i_col);
+    at.g_o = g_position(a.theta_go, a.phi_go, g_theta, g_phi, at.g_o_row, at.g_o_col);
     if (has_detail()) {
-        const double hx = ix + ox, hy = iy + oy, hz = iz + oz;
-        const double length = std::sqrt(hx * hx + hy * hy + hz * hz);
-        at.r_at = detail_position(detail_grid, at.u_h, theta_d, detail_phi_d(ix, iy, iz, hx, hy, hz, length));
+        at.r_at = detail_position(detail_grid, at.u_h, a.theta_d, a.phi_d);
         at.r = trilinear(detail_grid, at.r_at);
     }
     at.cached = project_bases && D.rank <= kInlineRank && G.rank <= kInlineRank && detail.rank <= kInlineRank;
@@ -296,7 +281,6 @@ bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_
         project(G, at.g_o, at.g_o_basis);
         if (detail.rank > 0) project(detail, at.r, at.r_basis);
     }
-    return true;
 }
 
 double NpfModel::value_uncached(const Lookup& at, std::size_t c) const {

@@ -46,10 +46,15 @@ const char* kHelp =
     "  sample_ns             importance sample: a direction and its pdf (paper sec. 3.5)\n"
     "  sample_weighted_ns    sample plus the weight f cos / pdf at 4 hero wavelengths\n"
     "  pdf_ns                pdf of a given pair\n"
+    "  eval_batch_ns         eval_batch over batches of 1024 pairs, memory path, 4 hero wavelengths per pair\n"
+    "                        (RGB: R, G, B), per pair (batch_isa: the instruction set it ran with)\n"
+    "  pdf_batch_ns          pdf_batch over batches of 1024 pairs, per pair\n"
+    "  sample_batch_ns       sample_batch (direction and pdf, as sample_ns) over batches of 1024 pairs, per pair\n"
     "  eval_raw_ns           --against: the source file's own evaluation, same wavelengths\n"
     "Single-threaded; the throughput line runs the memory eval on several threads at once.\n\n";
 
 constexpr int kPairs = 4096;    // direction pairs, cycled
+constexpr int kBatch = 1024;    // pairs per batched call
 constexpr int kHeroSets = 64;   // wavelength quadruples, cycled
 constexpr int kJsonDigits = 4;  // timings vary by more than that from run to run
 
@@ -166,6 +171,48 @@ int run_bench(const std::vector<std::string>& args) {
         };
     };
 
+    // The same pairs and hero wavelengths as structure-of-arrays, for the batched calls.
+    std::vector<float> vx, vy, vz, lx, ly, lz, batch_hero;
+    for (int i = 0; i < kPairs; ++i) {
+        const std::size_t k = std::size_t(i);
+        vx.push_back(in.wo[k].x), vy.push_back(in.wo[k].y), vz.push_back(in.wo[k].z);
+        lx.push_back(in.wi[k].x), ly.push_back(in.wi[k].y), lz.push_back(in.wi[k].z);
+        if (!channels.is_rgb()) {
+            const auto& h = in.hero[std::size_t(i % kHeroSets)];
+            batch_hero.insert(batch_hero.end(), h.begin(), h.end());
+        }
+    }
+    std::vector<float> batch_values(std::size_t(kBatch) * std::max<std::size_t>(memory.channel_count(), 4));
+    std::vector<float> batch_pdf(std::size_t(kBatch), 0.f);
+    std::vector<float> drawn_x(std::size_t(kBatch), 0.f), drawn_y(std::size_t(kBatch), 0.f), drawn_z(std::size_t(kBatch), 0.f);
+    float* const drawn[3] = {drawn_x.data(), drawn_y.data(), drawn_z.data()};
+    auto sample_batches = [&] {
+        for (int b = 0; b < kPairs; b += kBatch) {
+            const std::size_t o = std::size_t(b);
+            const DirectionArrays view{vx.data() + o, vy.data() + o, vz.data() + o};
+            memory.sample_batch(std::size_t(kBatch), view, in.u1.data() + o, in.u2.data() + o, BatchWavelengths::stored(),
+                                drawn, batch_pdf.data(), nullptr);
+        }
+        return double(batch_pdf[0]);
+    };
+    auto batches = [&](bool eval) {
+        return [&, eval] {
+            for (int b = 0; b < kPairs; b += kBatch) {
+                const std::size_t o = std::size_t(b);
+                const DirectionArrays view{vx.data() + o, vy.data() + o, vz.data() + o};
+                const DirectionArrays light{lx.data() + o, ly.data() + o, lz.data() + o};
+                if (eval) {
+                    const BatchWavelengths wl = channels.is_rgb() ? BatchWavelengths::stored()
+                                                                  : BatchWavelengths::each_pair(batch_hero.data() + 4 * o, 4);
+                    memory.eval_batch(std::size_t(kBatch), view, light, wl, batch_values.data(), batch_pdf.data());
+                } else {
+                    memory.pdf_batch(std::size_t(kBatch), view, light, batch_pdf.data());
+                }
+            }
+            return double(batch_pdf[0]) + double(batch_values[0]);
+        };
+    };
+
     struct Row {
         const char* key;
         const char* label;
@@ -200,6 +247,9 @@ int run_bench(const std::vector<std::string>& args) {
                         for (int i = 0; i < kPairs; ++i) sum += memory.pdf(in.wo[std::size_t(i)], in.wi[std::size_t(i)]);
                         return sum;
                     })});
+    rows.push_back({"eval_batch_ns", "eval_batch (1024 pairs), 4 hero wavelengths", time_calls(seconds, batches(true))});
+    rows.push_back({"pdf_batch_ns", "pdf_batch (1024 pairs)", time_calls(seconds, batches(false))});
+    rows.push_back({"sample_batch_ns", "sample_batch (1024 pairs): direction and pdf", time_calls(seconds, sample_batches)});
     if (raw) {
         rows.push_back({"eval_raw_ns", "raw source evaluation, same wavelengths", time_calls(seconds, [&] {
                             double sum = 0.0;
@@ -251,6 +301,7 @@ int run_bench(const std::vector<std::string>& args) {
         for (const Row& r : rows) out += std::string(", \"") + r.key + "\": " + json_number(r.t.ns_per_call, kJsonDigits);
         if (!raw) out += ", \"eval_raw_ns\": null";
         out += ", \"speedup_memory_vs_raw\": " + (raw ? json_number(speedup, kJsonDigits) : std::string("null"));
+        out += std::string(", \"batch_isa\": \"") + batch_isa_name(batch_isa()) + "\"";
         out += ", \"threads\": " + std::to_string(threads) + ", \"eval_memory_calls_per_s_threaded\": " +
                json_number(throughput, kJsonDigits) + "}\n";
         std::fputs(out.c_str(), stdout);
@@ -264,6 +315,7 @@ int run_bench(const std::vector<std::string>& args) {
         std::printf("  %-44s %10.1f %12llu %8.2f\n", r.label, r.t.ns_per_call, (unsigned long long)r.t.calls,
                     r.t.seconds);
     }
+    std::printf("  batched calls ran with %s\n", batch_isa_name(batch_isa()));
     if (raw) std::printf("  memory eval is %.1f times faster than the raw evaluation\n", speedup);
     std::printf("  memory eval on %d threads: %.3g calls/s (%.1f ns/call per thread)\n", threads, throughput,
                 1e9 * threads / throughput);

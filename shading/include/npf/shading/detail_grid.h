@@ -81,14 +81,20 @@ inline Trilinear trilinear(const DetailGrid& g, const DetailPosition& at) {
 // phi_d of the pair: the azimuth of wi in the frame of the half vector (wi rotated by -phi_h about
 // the normal, then by -theta_h about the bitangent), in [0, 2 pi). (hx, hy, hz) = wi + wo, not
 // normalised; `length` is its length. At the pole (h along the normal) phi_h is taken as 0.
-inline double detail_phi_d(double ix, double iy, double iz, double hx, double hy, double hz, double length) {
-    const double r2 = hx * hx + hy * hy;
-    if (!(r2 > 1e-24 * length * length)) return table::azimuth(ix, iy);
+template <class T>
+NPF_GENERIC_INLINE T detail_phi_d_generic(T ix, T iy, T iz, T hx, T hy, T hz, T length) {
+    using table::generic::select;
+    const T r2 = hx * hx + hy * hy;
     // d scaled by r |H| > 0, which leaves its azimuth unchanged:
     //   d_x = cos theta_h (cos phi_h ix + sin phi_h iy) - sin theta_h iz,  d_y = -sin phi_h ix + cos phi_h iy.
-    const double dx = hz * (hx * ix + hy * iy) - r2 * iz;
-    const double dy = length * (hx * iy - hy * ix);
-    return table::azimuth(dx, dy);
+    const T dx = hz * (hx * ix + hy * iy) - r2 * iz;
+    const T dy = length * (hx * iy - hy * ix);
+    // h along the normal: wi's own azimuth. A select, not a branch, so that batches vectorise.
+    const auto along_normal = !(r2 > T(1e-24) * length * length);
+    return table::generic::azimuth(select(along_normal, ix, dx), select(along_normal, iy, dy));
+}
+inline double detail_phi_d(double ix, double iy, double iz, double hx, double hy, double hz, double length) {
+    return detail_phi_d_generic<double>(ix, iy, iz, hx, hy, hz, length);
 }
 
 }  // namespace npf

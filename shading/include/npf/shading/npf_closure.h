@@ -33,6 +33,7 @@
 #include <npf/core/channels.h>
 #include <npf/core/vec.h>
 #include <npf/shading/half_vector_sampler.h>
+#include <npf/shading/npf_batch.h>
 #include <npf/shading/npf_model.h>
 #include <npf/shading/oiio_fwd.h>
 
@@ -92,6 +93,18 @@ public:
     // The direction and its pdf alone, without evaluating the BRDF.
     bool sample_direction(const Vec3& view, float u1, float u2, ClosureSample& s) const;
 
+    // Batched (npf_batch.h): n pairs at once, the results of eval and pdf above for each. values:
+    // channel-major, pair i's value k at values[k * n + i] (k < value_count of the request);
+    // pdf[i] when pdf is not null. No allocation. The texture path evaluates pair by pair.
+    void eval_batch(std::size_t n, const DirectionArrays& view, const DirectionArrays& light, BatchWavelengths wavelengths,
+                    float* values, float* pdf) const;
+    void pdf_batch(std::size_t n, const DirectionArrays& view, const DirectionArrays& light, float* pdf) const;
+    // sample() for each pair from u1[i], u2[i]: the drawn direction into light_out (x, y, z arrays
+    // of n; (0, 0, 0) where the draw fails), its pdf (0 where it fails) and, when weights is not
+    // null, value / pdf channel-major as eval_batch's values (0 where it fails).
+    void sample_batch(std::size_t n, const DirectionArrays& view, const float* u1, const float* u2,
+                      BatchWavelengths wavelengths, float* const light_out[3], float* pdf, float* weights) const;
+
     // Probability of choosing the diffuse (cosine) strategy rather than the half-vector one.
     double diffuse_probability() const { return m_diffuse_probability; }
 
@@ -99,9 +112,14 @@ private:
     class TextureTables;
 
     void finish_construction();
+    // The sampling strategies' draw of `light` alone (sample_direction without its pdf); false
+    // when it falls at or below the horizon.
+    bool draw_light(const Vec3& view, float u1, float u2, Vec3& light) const;
     // Fills `at` (NpfModel takes the conditioned direction, `view`, first); false below the horizon.
     bool lookup(const Vec3& view, const Vec3& light, NpfModel::Lookup& at) const;
-    void write_values(const NpfModel::Lookup& at, double cos_light, WavelengthRequest request, float* value) const;
+    // value[k * stride] for each value k (stride 1: contiguous; the batch writes channel-major).
+    void write_values(const NpfModel::Lookup& at, double cos_light, WavelengthRequest request, float* value,
+                      std::size_t stride = 1) const;
     float pdf_at(double theta_h, double u_h, double phi_h, double cos_d, double cos_light) const;
 
     Path m_path = Path::Memory;

@@ -28,6 +28,12 @@ constexpr double kInvHalfPi = 1.0 / kHalfPi, kInvTwoPi = 1.0 / kTwoPi;
 
 // ---- D's square-root map ---------------------------------------------------------------------
 inline double u_of_theta_h(double theta_h) { return std::sqrt(theta_h * kInvHalfPi); }
+// The same for any number type of table::generic (the batched closure's vectors).
+template <class T>
+NPF_GENERIC_INLINE T u_of_theta_h_generic(T theta_h) {
+    using table::generic::sqrt;
+    return sqrt(theta_h * T(kInvHalfPi));
+}
 inline double theta_h_of_u(double u) { return kHalfPi * u * u; }
 
 // ---- Cell centres (the fitter's sample positions and the tables' value positions) -------------

@@ -30,6 +30,7 @@
 #include <npf/core/channels.h>
 #include <npf/core/vec.h>
 #include <npf/shading/detail_grid.h>
+#include <npf/shading/npf_pair_angles.h>
 #include <npf/shading/npf_equation.h>
 #include <npf/shading/table_interpolation.h>
 
@@ -140,6 +141,11 @@ struct NpfModel {
     // tables corner by corner, unless the caller fills the cache itself and sets at.cached (the
     // texture path does).
     bool prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_bases = true) const;
+    // prepare() in two halves, for callers that compute the angles of many pairs at once
+    // (npf_batch.h): the azimuths this model needs, and the table positions from a pair's angles
+    // (pair_angles, npf_pair_angles.h; both directions above the horizon).
+    AngleNeeds angle_needs() const { return {d_phi > 1, g_phi > 1, has_detail()}; }
+    void position(const PairAngles& angles, Lookup& at, bool project_bases = true) const;
     // The part of prepare() that a pdf needs: the half vector and its angles.
     struct HalfVector {
         double cos_i, cos_o;

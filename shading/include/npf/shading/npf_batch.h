@@ -1,0 +1,43 @@
+// Batched shading: eval and pdf of an NpfClosure over many direction pairs at once, as wavefront
+// and SIMD renderers and numpy callers hand them over. Directions come as structure-of-arrays;
+// the angle work of a block of pairs runs as vector code (AVX2 where the CPU has it, else the
+// portable build's own vectors), the table lookups pair by pair from the cache-warm tables.
+// Results equal the scalar closure's to the bit on either instruction set (the same arithmetic,
+// no fused multiply-add), which tests/test_batch_closure.cpp checks.
+#pragma once
+
+#include <cstddef>
+
+namespace npf {
+
+// n directions: x[i], y[i], z[i] (the closure's local frame, unit vectors).
+struct DirectionArrays {
+    const float* x = nullptr;
+    const float* y = nullptr;
+    const float* z = nullptr;
+};
+
+// The wavelengths a batched eval answers: none (null nm: every stored channel, RGB always),
+// `count` shared by every pair (nm[k]), or `count` per pair (nm[i * count + k], hero
+// wavelengths).
+struct BatchWavelengths {
+    const float* nm = nullptr;
+    int count = 0;
+    bool per_pair = false;
+
+    static BatchWavelengths stored() { return {}; }
+    static BatchWavelengths shared(const float* nm, int count) { return {nm, count, false}; }
+    static BatchWavelengths each_pair(const float* nm, int count) { return {nm, count, true}; }
+};
+
+// The instruction set of the batched angle kernels. Auto (the default) takes AVX2 where the CPU
+// has it; a choice is process-wide (benchmarks and tests compare the two).
+enum class BatchIsa { Auto, Portable, Avx2 };
+bool batch_isa_supported(BatchIsa isa);
+// Throws npf::Error for an instruction set this CPU lacks.
+void set_batch_isa(BatchIsa isa);
+// What Auto resolves to now: Portable or Avx2.
+BatchIsa batch_isa();
+const char* batch_isa_name(BatchIsa isa);
+
+}  // namespace npf

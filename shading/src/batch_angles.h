@@ -1,0 +1,41 @@
+// The angle kernels of the batched closure (npf_batch.h): pair_angles and half_vector_angles
+// over a block of pairs, written to structure-of-arrays so that the loop runs as vector code.
+// Two implementations: the portable one (the scalar code per pair) and AVX2 (four pairs per
+// step, without FMA), both giving the scalar closure's results to the bit.
+#pragma once
+
+#include <npf/shading/npf_pair_angles.h>
+
+#include <cstddef>
+
+namespace npf::batch_detail {
+
+inline constexpr std::size_t kBlock = 64;  // pairs per block: the angles stay in L1
+
+struct BlockAngles {
+    double cos_i[kBlock], cos_o[kBlock], inv_cos_product[kBlock];
+    double theta_h[kBlock], u_h[kBlock], phi_h[kBlock], cos_d[kBlock], theta_d[kBlock];
+    double theta_gi[kBlock], phi_gi[kBlock], theta_go[kBlock], phi_go[kBlock], phi_d[kBlock];
+
+    PairAngles at(std::size_t i) const {
+        return {cos_i[i], cos_o[i], inv_cos_product[i], theta_h[i], u_h[i], phi_h[i], cos_d[i],
+                theta_d[i], theta_gi[i], phi_gi[i], theta_go[i], phi_go[i], phi_d[i]};
+    }
+};
+
+struct BlockHalfVectors {
+    double theta_h[kBlock], u_h[kBlock], phi_h[kBlock], cos_d[kBlock];
+};
+
+// Pairs [first, first + n) of a block (first + n <= kBlock): view x, y, z then light x, y, z,
+// each array indexed from the block's start. Pairs at or below the horizon get meaningless values
+// (the caller skips them).
+void angles_portable(std::size_t n, const float* const view[3], const float* const light[3], AngleNeeds needs,
+                     BlockAngles& out, std::size_t first = 0);
+void half_vectors_portable(std::size_t n, const float* const view[3], const float* const light[3], bool d_azimuth,
+                           BlockHalfVectors& out, std::size_t first = 0);
+void angles_avx2(std::size_t n, const float* const view[3], const float* const light[3], AngleNeeds needs, BlockAngles& out);
+void half_vectors_avx2(std::size_t n, const float* const view[3], const float* const light[3], bool d_azimuth,
+                       BlockHalfVectors& out);
+
+}  // namespace npf::batch_detail

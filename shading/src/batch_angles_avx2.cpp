@@ -1,0 +1,97 @@
+// The angle kernels for AVX2: four pairs per step with table::generic's code on Double4
+// (simd_double4.h), the rest of a block one pair at a time with the same code on double. This
+// file alone is compiled with -mavx2 and without FMA (CMakeLists.txt), and called only where the
+// CPU has AVX2 (npf_batch.cpp). Elsewhere (no GCC or Clang, not x86) it falls back to the
+// portable kernels.
+#include "batch_angles.h"
+
+#if defined(__AVX2__)
+#include "simd_double4.h"
+
+namespace npf::batch_detail {
+
+namespace {
+
+using simd::Double4;
+
+template <bool DAzimuth, bool GAzimuth, bool Detail>
+void angles(std::size_t n, const float* const view[3], const float* const light[3], BlockAngles& out) {
+    constexpr AngleNeeds needs{DAzimuth, GAzimuth, Detail};
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        PairAnglesOf<Double4> a;
+        pair_angles_of<Double4>(simd::load4(view[0] + i), simd::load4(view[1] + i), simd::load4(view[2] + i),
+                                simd::load4(light[0] + i), simd::load4(light[1] + i), simd::load4(light[2] + i), needs, a);
+        simd::store4(out.cos_i + i, a.cos_i);
+        simd::store4(out.cos_o + i, a.cos_o);
+        simd::store4(out.inv_cos_product + i, a.inv_cos_product);
+        simd::store4(out.theta_h + i, a.theta_h);
+        simd::store4(out.u_h + i, a.u_h);
+        simd::store4(out.phi_h + i, a.phi_h);
+        simd::store4(out.cos_d + i, a.cos_d);
+        simd::store4(out.theta_d + i, a.theta_d);
+        simd::store4(out.theta_gi + i, a.theta_gi);
+        simd::store4(out.phi_gi + i, a.phi_gi);
+        simd::store4(out.theta_go + i, a.theta_go);
+        simd::store4(out.phi_go + i, a.phi_go);
+        simd::store4(out.phi_d + i, a.phi_d);
+    }
+    if (i < n) angles_portable(n - i, view, light, needs, out, i);
+}
+
+template <bool DAzimuth>
+void half_vectors(std::size_t n, const float* const view[3], const float* const light[3], BlockHalfVectors& out) {
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        Double4 theta_h, u_h, phi_h, cos_d;
+        half_vector_angles_of<Double4>(simd::load4(view[0] + i), simd::load4(view[1] + i), simd::load4(view[2] + i),
+                                       simd::load4(light[0] + i), simd::load4(light[1] + i), simd::load4(light[2] + i),
+                                       DAzimuth, theta_h, u_h, phi_h, cos_d);
+        simd::store4(out.theta_h + i, theta_h);
+        simd::store4(out.u_h + i, u_h);
+        simd::store4(out.phi_h + i, phi_h);
+        simd::store4(out.cos_d + i, cos_d);
+    }
+    if (i < n) half_vectors_portable(n - i, view, light, DAzimuth, out, i);
+}
+
+}  // namespace
+
+void angles_avx2(std::size_t n, const float* const view[3], const float* const light[3], AngleNeeds needs, BlockAngles& out) {
+    const int k = (needs.d_azimuth ? 4 : 0) + (needs.g_azimuth ? 2 : 0) + (needs.detail ? 1 : 0);
+    switch (k) {
+    case 0: return angles<false, false, false>(n, view, light, out);
+    case 1: return angles<false, false, true>(n, view, light, out);
+    case 2: return angles<false, true, false>(n, view, light, out);
+    case 3: return angles<false, true, true>(n, view, light, out);
+    case 4: return angles<true, false, false>(n, view, light, out);
+    case 5: return angles<true, false, true>(n, view, light, out);
+    case 6: return angles<true, true, false>(n, view, light, out);
+    default: return angles<true, true, true>(n, view, light, out);
+    }
+}
+
+void half_vectors_avx2(std::size_t n, const float* const view[3], const float* const light[3], bool d_azimuth,
+                       BlockHalfVectors& out) {
+    if (d_azimuth) return half_vectors<true>(n, view, light, out);
+    return half_vectors<false>(n, view, light, out);
+}
+
+}  // namespace npf::batch_detail
+
+#else
+
+namespace npf::batch_detail {
+
+void angles_avx2(std::size_t n, const float* const view[3], const float* const light[3], AngleNeeds needs, BlockAngles& out) {
+    angles_portable(n, view, light, needs, out);
+}
+
+void half_vectors_avx2(std::size_t n, const float* const view[3], const float* const light[3], bool d_azimuth,
+                       BlockHalfVectors& out) {
+    half_vectors_portable(n, view, light, d_azimuth, out);
+}
+
+}  // namespace npf::batch_detail
+
+#endif

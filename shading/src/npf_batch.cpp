@@ -1,0 +1,175 @@
+// The batched closure (npf_batch.h): blocks of kBlock pairs; the angles of a block by a vector
+// kernel (batch_angles.h), then the table lookups pair by pair with the scalar closure's code.
+#include <npf/shading/npf_batch.h>
+#include <npf/shading/npf_closure.h>
+
+#include "batch_angles.h"
+#include "finite_float.h"
+
+#include <npf/core/error.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+namespace npf {
+
+namespace {
+
+using batch_detail::kBlock;
+
+std::atomic<int> g_isa{int(BatchIsa::Auto)};
+
+bool cpu_has_avx2() {
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
+    static const bool has = __builtin_cpu_supports("avx2");
+    return has;
+#else
+    return false;
+#endif
+}
+
+bool above_horizon_and_finite(float x, float y, float z) {
+    return z > 0.f && std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
+}
+
+// The direction arrays of block [b, b + kBlock) as the kernels take them.
+struct BlockPointers {
+    const float* view[3];
+    const float* light[3];
+    BlockPointers(const DirectionArrays& v, const DirectionArrays& l, std::size_t b)
+        : view{v.x + b, v.y + b, v.z + b}, light{l.x + b, l.y + b, l.z + b} {}
+};
+
+}  // namespace
+
+bool batch_isa_supported(BatchIsa isa) { return isa != BatchIsa::Avx2 || cpu_has_avx2(); }
+
+void set_batch_isa(BatchIsa isa) {
+    if (!batch_isa_supported(isa)) throw Error("batched shading", "this CPU has no AVX2");
+    g_isa = int(isa);
+}
+
+BatchIsa batch_isa() {
+    const auto isa = BatchIsa(g_isa.load());
+    if (isa != BatchIsa::Auto) return isa;
+    return cpu_has_avx2() ? BatchIsa::Avx2 : BatchIsa::Portable;
+}
+
+const char* batch_isa_name(BatchIsa isa) {
+    switch (isa) {
+    case BatchIsa::Auto: return "auto";
+    case BatchIsa::Portable: return "portable";
+    case BatchIsa::Avx2: return "avx2";
+    }
+    return "?";
+}
+
+void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const DirectionArrays& light,
+                            BatchWavelengths wavelengths, float* values, float* pdf) const {
+    const bool stored = m_model.channels.is_rgb() || !wavelengths.nm;
+    const std::size_t count = stored ? m_model.channel_count() : std::size_t(std::max(wavelengths.count, 0));
+    auto request_of = [&](std::size_t i) {
+        if (stored) return WavelengthRequest::stored();
+        return WavelengthRequest::at(wavelengths.nm + (wavelengths.per_pair ? i * count : 0), int(count));
+    };
+    auto zero = [&](std::size_t i) {
+        for (std::size_t k = 0; k < count; ++k) values[k * n + i] = 0.f;
+        if (pdf) pdf[i] = 0.f;
+    };
+    if (m_texture) {  // the TextureSystem's lookups are per pair
+        for (std::size_t i = 0; i < n; ++i) {
+            NpfModel::Lookup at;
+            const Vec3 v(view.x[i], view.y[i], view.z[i]), l(light.x[i], light.y[i], light.z[i]);
+            if (!lookup(v, l, at)) {
+                zero(i);
+                continue;
+            }
+            write_values(at, at.cos_o, request_of(i), values + i, n);
+            if (pdf) pdf[i] = pdf_at(at.theta_h, at.u_h, at.phi_h, at.cos_d, at.cos_o);
+        }
+        return;
+    }
+    const bool avx2 = batch_isa() == BatchIsa::Avx2;
+    const AngleNeeds needs = m_model.angle_needs();
+    batch_detail::BlockAngles angles;
+    NpfModel::Lookup at;
+    for (std::size_t b = 0; b < n; b += kBlock) {
+        const std::size_t m = std::min(kBlock, n - b);
+        const BlockPointers p(view, light, b);
+        if (avx2) {
+            batch_detail::angles_avx2(m, p.view, p.light, needs, angles);
+        } else {
+            batch_detail::angles_portable(m, p.view, p.light, needs, angles);
+        }
+        for (std::size_t j = 0; j < m; ++j) {
+            const std::size_t i = b + j;
+            if (!above_horizon_and_finite(view.x[i], view.y[i], view.z[i]) ||
+                !above_horizon_and_finite(light.x[i], light.y[i], light.z[i])) {
+                zero(i);
+                continue;
+            }
+            m_model.position(angles.at(j), at);
+            write_values(at, at.cos_o, request_of(i), values + i, n);
+            if (pdf) pdf[i] = pdf_at(at.theta_h, at.u_h, at.phi_h, at.cos_d, at.cos_o);
+        }
+    }
+}
+
+void NpfClosure::pdf_batch(std::size_t n, const DirectionArrays& view, const DirectionArrays& light, float* pdf) const {
+    const bool avx2 = batch_isa() == BatchIsa::Avx2;
+    const bool d_azimuth = m_model.d_phi > 1;
+    batch_detail::BlockHalfVectors h;
+    for (std::size_t b = 0; b < n; b += kBlock) {
+        const std::size_t m = std::min(kBlock, n - b);
+        const BlockPointers p(view, light, b);
+        if (avx2) {
+            batch_detail::half_vectors_avx2(m, p.view, p.light, d_azimuth, h);
+        } else {
+            batch_detail::half_vectors_portable(m, p.view, p.light, d_azimuth, h);
+        }
+        for (std::size_t j = 0; j < m; ++j) {
+            const std::size_t i = b + j;
+            const bool ok = above_horizon_and_finite(view.x[i], view.y[i], view.z[i]) &&
+                            above_horizon_and_finite(light.x[i], light.y[i], light.z[i]);
+            pdf[i] = ok ? pdf_at(h.theta_h[j], h.u_h[j], h.phi_h[j], h.cos_d[j], light.z[i]) : 0.f;
+        }
+    }
+}
+
+void NpfClosure::sample_batch(std::size_t n, const DirectionArrays& view, const float* u1, const float* u2,
+                              BatchWavelengths wavelengths, float* const light_out[3], float* pdf, float* weights) const {
+    // The draws pair by pair (alias table and cosine map), then the pdf and the values of the
+    // drawn pairs by the batched code: the same numbers as sample(), whose pdf is pdf() and whose
+    // weights are eval's values over that pdf.
+    for (std::size_t i = 0; i < n; ++i) {
+        Vec3 light(0.f, 0.f, 0.f);
+        if (!draw_light(Vec3(view.x[i], view.y[i], view.z[i]), u1[i], u2[i], light)) light = Vec3(0.f, 0.f, 0.f);
+        light_out[0][i] = light.x;
+        light_out[1][i] = light.y;
+        light_out[2][i] = light.z;
+    }
+    const DirectionArrays drawn{light_out[0], light_out[1], light_out[2]};
+    if (!weights) {
+        pdf_batch(n, view, drawn, pdf);
+    } else {
+        eval_batch(n, view, drawn, wavelengths, weights, pdf);
+    }
+    const std::size_t count = m_model.channels.is_rgb() || !wavelengths.nm ? m_model.channel_count()
+                                                                           : std::size_t(std::max(wavelengths.count, 0));
+    for (std::size_t i = 0; i < n; ++i) {
+        if (pdf[i] > 0.f) {
+            if (!weights) continue;
+            const double inv_pdf = 1.0 / double(pdf[i]);
+            for (std::size_t k = 0; k < count; ++k) weights[k * n + i] = finite_float(weights[k * n + i] * inv_pdf);
+            continue;
+        }
+        pdf[i] = 0.f;
+        light_out[0][i] = light_out[1][i] = light_out[2][i] = 0.f;
+        if (weights) {
+            for (std::size_t k = 0; k < count; ++k) weights[k * n + i] = 0.f;
+        }
+    }
+}
+
+}  // namespace npf
