@@ -23,6 +23,25 @@ struct BlockAngles {
     }
 };
 
+// Writes pair angles of any number type at position i of the block: store(pointer, value)
+// puts one value (double) or four (a vector) there. The one list of the fields.
+template <class T, class Store>
+void store_angles(BlockAngles& out, std::size_t i, const PairAnglesOf<T>& a, Store store) {
+    store(out.cos_i + i, a.cos_i);
+    store(out.cos_o + i, a.cos_o);
+    store(out.inv_cos_product + i, a.inv_cos_product);
+    store(out.theta_h + i, a.theta_h);
+    store(out.u_h + i, a.u_h);
+    store(out.phi_h + i, a.phi_h);
+    store(out.cos_d + i, a.cos_d);
+    store(out.theta_d + i, a.theta_d);
+    store(out.theta_gi + i, a.theta_gi);
+    store(out.phi_gi + i, a.phi_gi);
+    store(out.theta_go + i, a.theta_go);
+    store(out.phi_go + i, a.phi_go);
+    store(out.phi_d + i, a.phi_d);
+}
+
 struct BlockHalfVectors {
     double theta_h[kBlock], u_h[kBlock], phi_h[kBlock], cos_d[kBlock];
 };

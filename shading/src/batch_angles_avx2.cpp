@@ -22,19 +22,7 @@ void angles(std::size_t n, const float* const view[3], const float* const light[
         PairAnglesOf<Double4> a;
         pair_angles_of<Double4>(simd::load4(view[0] + i), simd::load4(view[1] + i), simd::load4(view[2] + i),
                                 simd::load4(light[0] + i), simd::load4(light[1] + i), simd::load4(light[2] + i), needs, a);
-        simd::store4(out.cos_i + i, a.cos_i);
-        simd::store4(out.cos_o + i, a.cos_o);
-        simd::store4(out.inv_cos_product + i, a.inv_cos_product);
-        simd::store4(out.theta_h + i, a.theta_h);
-        simd::store4(out.u_h + i, a.u_h);
-        simd::store4(out.phi_h + i, a.phi_h);
-        simd::store4(out.cos_d + i, a.cos_d);
-        simd::store4(out.theta_d + i, a.theta_d);
-        simd::store4(out.theta_gi + i, a.theta_gi);
-        simd::store4(out.phi_gi + i, a.phi_gi);
-        simd::store4(out.theta_go + i, a.theta_go);
-        simd::store4(out.phi_go + i, a.phi_go);
-        simd::store4(out.phi_d + i, a.phi_d);
+        store_angles(out, i, a, [](double* p, Double4 v) { simd::store4(p, v); });
     }
     if (i < n) angles_portable(n - i, view, light, needs, out, i);
 }
