@@ -30,70 +30,40 @@ struct Context : YamlContext {
     }
 };
 
-color::SampledSpectrum srgb_spectrum(double r, double g, double b) {
-    return color::linear_srgb_to_spectrum({color::srgb_to_linear(r), color::srgb_to_linear(g), color::srgb_to_linear(b)});
-}
-
-// number | {srgb: [r, g, b]} | {linear_srgb: [r, g, b]} | {spectrum: [[nm, v], ...]} | {file: path}
-color::SampledSpectrum parse_any_spectrum(const Context& cx, const YAML::Node& node, const std::string& key,
-                                          const std::string& base_dir) {
-    if (node.IsScalar()) return color::SampledSpectrum::constant(cx.number(node, key));
-    cx.only(node, key, {"srgb", "linear_srgb", "spectrum", "file"});
-    if (node.size() != 1) cx.fail(node, key, "give exactly one of srgb, linear_srgb, spectrum, file");
-    const auto kv = *node.begin();
-    const std::string kind = kv.first.Scalar();
-    const YAML::Node value = kv.second;
-    if (kind == "srgb" || kind == "linear_srgb") {
-        if (!value.IsSequence() || value.size() != 3) cx.fail(value, kind, "expected [r, g, b]");
-        double c[3];
-        for (int i = 0; i < 3; ++i) c[i] = cx.number(value[i], kind);
-        if (kind == "srgb") return srgb_spectrum(c[0], c[1], c[2]);
-        return color::linear_srgb_to_spectrum({c[0], c[1], c[2]});
-    }
-    if (kind == "file") {
-        std::string path = cx.text(value, kind);
-        if (!path.empty() && path[0] != '/') path = base_dir + "/" + path;
-        return cx.at(value, kind, [&] { return color::read_spd(path); });
-    }
-    if (!value.IsSequence() || value.size() == 0) cx.fail(value, kind, "expected [[wavelength_nm, value], ...]");
-    return cx.spectrum_rows(value, kind);
-}
-
 // Weights, albedos and indices: spectra whose values may not be negative.
-color::SampledSpectrum parse_spectrum(const Context& cx, const YAML::Node& node, const std::string& key,
-                                      const std::string& base_dir) {
-    color::SampledSpectrum s = parse_any_spectrum(cx, node, key, base_dir);
+color::SampledSpectrum parse_spectrum(const Context& cx, const YAML::Node& node, const std::string& key) {
+    color::SampledSpectrum s = cx.spectrum(node, key);  // any spelling, as in edit recipes
     for (double v : s.values()) {
         if (v < 0.0) cx.fail(node, key, "negative value " + std::to_string(v) + " (weights, albedos and indices are >= 0)");
     }
     return s;
 }
 
-Fresnel parse_conductor(const Context& cx, const YAML::Node& node, const std::string& key, const std::string& base_dir) {
+Fresnel parse_conductor(const Context& cx, const YAML::Node& node, const std::string& key) {
     if (node.IsScalar()) {
         const std::string metal = cx.text(node, key);
         return cx.at(node, key, [&] { return conductor_fresnel(metal, ""); });
     }
     cx.only(node, key, {"eta", "k"});
     if (!node["eta"] || !node["k"]) cx.fail(node, key, "a conductor needs both eta and k");
-    const color::SampledSpectrum eta = parse_spectrum(cx, node["eta"], "eta", base_dir);
-    const color::SampledSpectrum k = parse_spectrum(cx, node["k"], "k", base_dir);
+    const color::SampledSpectrum eta = parse_spectrum(cx, node["eta"], "eta");
+    const color::SampledSpectrum k = parse_spectrum(cx, node["k"], "k");
     return cx.at(node, key, [&] { return Fresnel::conductor(eta, k); });
 }
 
-Fresnel parse_fresnel(const Context& cx, const YAML::Node& node, const std::string& base_dir) {
+Fresnel parse_fresnel(const Context& cx, const YAML::Node& node) {
     cx.only(node, "fresnel", {"conductor", "dielectric", "schlick", "thin_film", "one"}, {"one"});
     if (node.size() != 1) cx.fail(node, "fresnel", "give exactly one of conductor, dielectric, schlick, thin_film, one");
     const auto kv = *node.begin();
     const std::string kind = kv.first.Scalar();
     const YAML::Node value = kv.second;
-    if (kind == "conductor") return parse_conductor(cx, value, kind, base_dir);
+    if (kind == "conductor") return parse_conductor(cx, value, kind);
     if (kind == "dielectric") {
-        const color::SampledSpectrum eta = parse_spectrum(cx, value, kind, base_dir);
+        const color::SampledSpectrum eta = parse_spectrum(cx, value, kind);
         return cx.at(value, kind, [&] { return Fresnel::dielectric(eta); });
     }
     if (kind == "schlick") {
-        const color::SampledSpectrum f0 = parse_spectrum(cx, value, kind, base_dir);
+        const color::SampledSpectrum f0 = parse_spectrum(cx, value, kind);
         return cx.at(value, kind, [&] { return Fresnel::schlick(f0); });
     }
     if (kind == "one") return Fresnel::one();
@@ -103,7 +73,7 @@ Fresnel parse_fresnel(const Context& cx, const YAML::Node& node, const std::stri
     }
     const double thickness = cx.number(value["thickness"], "thickness");
     if (thickness < 0.0) cx.fail(value["thickness"], "thickness", "must not be negative (nm)");
-    const color::SampledSpectrum film = parse_spectrum(cx, value["film_ior"], "film_ior", base_dir);
+    const color::SampledSpectrum film = parse_spectrum(cx, value["film_ior"], "film_ior");
     const YAML::Node base = value["base"];
     color::SampledSpectrum base_eta, base_k = color::SampledSpectrum::constant(0.0);
     if (base.IsScalar()) {
@@ -122,13 +92,13 @@ Fresnel parse_fresnel(const Context& cx, const YAML::Node& node, const std::stri
     } else {
         cx.only(base, "base", {"eta", "k"});
         if (!base["eta"]) cx.fail(base, "base", "missing 'eta'");
-        base_eta = parse_spectrum(cx, base["eta"], "eta", base_dir);
-        if (base["k"]) base_k = parse_spectrum(cx, base["k"], "k", base_dir);
+        base_eta = parse_spectrum(cx, base["eta"], "eta");
+        if (base["k"]) base_k = parse_spectrum(cx, base["k"], "k");
     }
     return cx.at(value, kind, [&] { return Fresnel::thin_film(thickness, film, base_eta, base_k); });
 }
 
-SpecularLobe parse_lobe(const Context& cx, const YAML::Node& node, const std::string& base_dir) {
+SpecularLobe parse_lobe(const Context& cx, const YAML::Node& node) {
     cx.only(node, "lobes", {"distribution", "alpha", "rotation", "fresnel", "weight"});
     SpecularLobe lobe;
     if (node["distribution"]) {
@@ -150,8 +120,8 @@ SpecularLobe parse_lobe(const Context& cx, const YAML::Node& node, const std::st
         cx.fail(alpha, "alpha", "roughness must lie in [1e-4, 4]");
     }
     if (node["rotation"]) lobe.ndf.rotation = float(cx.number(node["rotation"], "rotation") * kPiD / 180.0);
-    if (node["fresnel"]) lobe.fresnel = parse_fresnel(cx, node["fresnel"], base_dir);
-    if (node["weight"]) lobe.weight = parse_spectrum(cx, node["weight"], "weight", base_dir);
+    if (node["fresnel"]) lobe.fresnel = parse_fresnel(cx, node["fresnel"]);
+    if (node["weight"]) lobe.weight = parse_spectrum(cx, node["weight"], "weight");
     return lobe;
 }
 
@@ -180,7 +150,7 @@ color::SampledSpectrum spectrum_from_text(const std::string& text, const std::st
     const std::vector<double> parts = list ? *list : std::vector<double>{};
     const bool numbers = bool(list);
     if (numbers && parts.size() == 1) return color::SampledSpectrum::constant(parts[0]);
-    if (numbers && parts.size() == 3) return srgb_spectrum(parts[0], parts[1], parts[2]);
+    if (numbers && parts.size() == 3) return color::srgb_to_spectrum(parts[0], parts[1], parts[2]);
     if (numbers) throw Error(what, "'" + text + "' is neither one number nor an r,g,b colour");
     return color::read_spd(text);
 }
@@ -197,6 +167,7 @@ Fresnel conductor_fresnel(const std::string& metal, const std::string& what) {
 MaterialRecipe parse_material_recipe(const std::string& yaml, const std::string& source, const std::string& base_dir) {
     Context cx;
     cx.source = source;
+    cx.base_dir = base_dir;
     YAML::Node root;
     try {
         root = YAML::Load(yaml);
@@ -218,14 +189,14 @@ MaterialRecipe parse_material_recipe(const std::string& yaml, const std::string&
     if (!r.writer.channels.is_rgb()) r.material.wavelengths = r.writer.channels.wavelengths();
     if (root["lobes"]) {
         if (!root["lobes"].IsSequence()) cx.fail(root["lobes"], "lobes", "expected a list of lobes");
-        for (const YAML::Node& lobe : root["lobes"]) r.material.specular.push_back(parse_lobe(cx, lobe, base_dir));
+        for (const YAML::Node& lobe : root["lobes"]) r.material.specular.push_back(parse_lobe(cx, lobe));
     }
-    if (root["diffuse"]) r.material.diffuse = parse_spectrum(cx, root["diffuse"], "diffuse", base_dir);
+    if (root["diffuse"]) r.material.diffuse = parse_spectrum(cx, root["diffuse"], "diffuse");
     if (root["retroreflection"]) {
         const YAML::Node n = root["retroreflection"];
         cx.only(n, "retroreflection", {"weight", "exponent"});
         if (!n["weight"]) cx.fail(n, "retroreflection", "missing 'weight'");
-        r.material.retroreflection = parse_spectrum(cx, n["weight"], "weight", base_dir);
+        r.material.retroreflection = parse_spectrum(cx, n["weight"], "weight");
         if (n["exponent"]) {
             r.material.retro_exponent = float(cx.number(n["exponent"], "exponent"));
             if (r.material.retro_exponent < 0.f || r.material.retro_exponent > 1e6f) {
@@ -233,7 +204,7 @@ MaterialRecipe parse_material_recipe(const std::string& yaml, const std::string&
             }
         }
     }
-    if (root["sheen"]) r.material.sheen = parse_spectrum(cx, root["sheen"], "sheen", base_dir);
+    if (root["sheen"]) r.material.sheen = parse_spectrum(cx, root["sheen"], "sheen");
     if (r.material.specular.empty() && r.material.diffuse.empty() && r.material.retroreflection.empty() &&
         r.material.sheen.empty()) {
         throw Error(source, "the material has no lobes, no diffuse, no retroreflection and no sheen: it reflects nothing");

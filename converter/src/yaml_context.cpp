@@ -3,6 +3,7 @@
 #include <npf/core/error.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -78,6 +79,55 @@ void YamlContext::only(const YAML::Node& map, const std::string& key, const std:
         const bool empty_allowed = std::find(may_be_empty.begin(), may_be_empty.end(), k) != may_be_empty.end();
         if (kv.second.IsNull() && !empty_allowed) fail(kv.first, k, "has no value");
     }
+}
+
+namespace {
+
+bool names_a_spectrum_file(const std::string& text) {
+    const auto ends_with = [&](const char* suffix) {
+        const std::size_t n = std::char_traits<char>::length(suffix);
+        if (text.size() < n) return false;
+        for (std::size_t k = 0; k < n; ++k) {
+            if (std::tolower(static_cast<unsigned char>(text[text.size() - n + k])) != suffix[k]) return false;
+        }
+        return true;
+    };
+    return ends_with(".spd") || text.find('/') != std::string::npos;
+}
+
+}  // namespace
+
+color::SampledSpectrum YamlContext::spectrum(const YAML::Node& node, const std::string& key) const {
+    if (node.IsScalar()) {
+        if (names_a_spectrum_file(node.Scalar())) {
+            const std::string p = path(node, key);
+            return at(node, key, [&] { return color::read_spd(p); });
+        }
+        return color::SampledSpectrum::constant(number(node, key));
+    }
+    if (node.IsSequence()) {
+        if (node.size() > 0 && node[0].IsSequence()) return spectrum_rows(node, key);
+        fail(node, key, "expected a mapping (srgb, linear_srgb, spectrum or file), a number, a .spd file or "
+                        "[[wavelength_nm, value], ...]");
+    }
+    only(node, key, {"srgb", "linear_srgb", "spectrum", "file"});
+    if (node.size() != 1) fail(node, key, "give exactly one of srgb, linear_srgb, spectrum, file");
+    const auto kv = *node.begin();
+    const std::string kind = kv.first.Scalar();
+    const YAML::Node value = kv.second;
+    if (kind == "srgb" || kind == "linear_srgb") {
+        if (!value.IsSequence() || value.size() != 3) fail(value, kind, "expected [r, g, b]");
+        double c[3];
+        for (int i = 0; i < 3; ++i) c[i] = number(value[i], kind);
+        if (kind == "srgb") return color::srgb_to_spectrum(c[0], c[1], c[2]);
+        return color::linear_srgb_to_spectrum({c[0], c[1], c[2]});
+    }
+    if (kind == "file") {
+        const std::string p = path(value, kind);
+        return at(value, kind, [&] { return color::read_spd(p); });
+    }
+    if (!value.IsSequence() || value.size() == 0) fail(value, kind, "expected [[wavelength_nm, value], ...]");
+    return spectrum_rows(value, kind);
 }
 
 color::SampledSpectrum YamlContext::spectrum_rows(const YAML::Node& rows, const std::string& key) const {

@@ -228,4 +228,8 @@ SampledSpectrum linear_srgb_to_spectrum(const Rgb& rgb) {
     return SampledSpectrum(su.grid, std::vector<double>(s.data(), s.data() + kN));
 }
 
+SampledSpectrum srgb_to_spectrum(double r, double g, double b) {
+    return linear_srgb_to_spectrum({srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b)});
+}
+
 }  // namespace npf::color

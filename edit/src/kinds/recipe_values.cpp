@@ -1,6 +1,5 @@
 #include "recipe_values.h"
 
-#include <sstream>
 #include <vector>
 
 namespace npf::edit::detail {
@@ -13,15 +12,7 @@ double number_or_mapping(const YamlContext& cx, const YAML::Node& node, const st
 }
 
 color::SampledSpectrum recipe_spectrum(const YamlContext& cx, const YAML::Node& node, const std::string& key) {
-    if (node.IsScalar()) {
-        std::istringstream is(node.Scalar());
-        double v = 0.0;
-        if (is >> v && is.eof()) return color::SampledSpectrum::constant(cx.number(node, key));
-        const std::string p = cx.path(node, key);
-        return cx.at(node, key, [&] { return color::read_spd(p); });
-    }
-    if (!node.IsSequence() || node.size() == 0) cx.fail(node, key, "expected a number, a .spd file or [[wavelength_nm, value], ...]");
-    return cx.spectrum_rows(node, key);
+    return cx.spectrum(node, key);
 }
 
 color::Rgb recipe_rgb(const YamlContext& cx, const YAML::Node& node, const std::string& key) {

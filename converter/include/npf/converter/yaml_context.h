@@ -31,8 +31,13 @@ struct YamlContext {
     // A non-empty path, relative ones from base_dir.
     std::string path(const YAML::Node& node, const std::string& key) const;
 
-    // A spectrum written as rows [[wavelength_nm, value], ...] (material and edit recipes alike):
-    // each row two numbers, wavelengths strictly ascending. `rows` must be a sequence.
+    // A spectrum, in any of the spellings material and edit recipes accept alike: a number (a
+    // constant), a .spd file (a text ending in .spd or holding a '/'; relative to base_dir),
+    // rows [[wavelength_nm, value], ...], or a mapping with one of srgb: [r, g, b],
+    // linear_srgb: [r, g, b], spectrum: rows, file: path.
+    color::SampledSpectrum spectrum(const YAML::Node& node, const std::string& key) const;
+    // Rows [[wavelength_nm, value], ...]: each row two numbers, wavelengths strictly ascending.
+    // `rows` must be a sequence.
     color::SampledSpectrum spectrum_rows(const YAML::Node& rows, const std::string& key) const;
 
     // Every key of `map` must be one of `allowed`, each once, and hold a value unless listed in

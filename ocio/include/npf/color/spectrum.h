@@ -88,5 +88,7 @@ double linear_to_srgb(double linear);
 // way, first to values >= 0 only, then to none; the colour match is kept. Non-finite input
 // throws npf::Error.
 SampledSpectrum linear_srgb_to_spectrum(const Rgb& rgb);
+// The same for sRGB-encoded components (decoded first).
+SampledSpectrum srgb_to_spectrum(double r, double g, double b);
 
 }  // namespace npf::color
