@@ -178,11 +178,11 @@ RenderResult render(const Brdf& material, const EnvironmentMap& environment, con
         }
         hits += row_hits;
         dropped += row_dropped;
+        // Counted under the lock that reports it: counted outside, a row finished later could
+        // report before an earlier one, and the fraction would go back (a flaky test showed it).
+        const std::lock_guard<std::mutex> lock(progress_mutex);
         const std::size_t done = rows_done.fetch_add(1) + 1;
-        if (progress) {
-            const std::lock_guard<std::mutex> lock(progress_mutex);
-            progress(double(done) / double(height));
-        }
+        if (progress) progress(double(done) / double(height));
     }, int(threads));
 
     result.stats.camera_samples = std::uint64_t(width) * height * spp;
