@@ -5,6 +5,7 @@
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
 #include <npf/core/number_text.h>
+#include <npf/core/text.h>
 
 #include <npf/converter/convert_settings_table.h>
 #include <npf/converter/yaml_context.h>
@@ -169,9 +170,6 @@ std::vector<std::string> expand_glob(const std::string& pattern) {
 std::string stem_of(const std::string& path) { return fs::path(path).stem().string(); }
 
 bool starts_with(const std::string& s, const std::string& p) { return s.size() >= p.size() && s.compare(0, p.size(), p) == 0; }
-bool ends_with(const std::string& s, const std::string& p) {
-    return s.size() >= p.size() && s.compare(s.size() - p.size(), p.size(), p) == 0;
-}
 
 // A path with its symbolic links resolved as far as it exists, so that a folder reached two ways
 // is recognised (the lexical path when that fails).
@@ -331,11 +329,6 @@ bool number_and_unit(const std::string& v, double& number, std::string& unit) {
     return end != t.c_str() && std::isfinite(number);
 }
 
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
 std::string shortest(double v) {
     char b[40];
     std::snprintf(b, sizeof b, "%.4g", v);
@@ -345,12 +338,12 @@ std::string shortest(double v) {
 }  // namespace
 
 std::uint64_t parse_memory_limit(const std::string& text, const std::string& what) {
-    if (lower(trimmed(text)) == "none") return 0;
+    if (lowercase(trimmed(text)) == "none") return 0;
     double n = 0;
     std::string unit;
     const auto fail = [&](const std::string& problem) -> std::uint64_t { throw Error(what, problem + ", got '" + text + "'"); };
     if (!number_and_unit(text, n, unit)) return fail("expects a size such as 8 GiB, 512 MiB or none");
-    const std::string u = lower(unit);
+    const std::string u = lowercase(unit);
     static const std::pair<const char*, int> units[] = {{"k", 1}, {"m", 2}, {"g", 3}, {"t", 4}};
     int power = -1;
     for (const auto& [name, p] : units) {
@@ -365,11 +358,11 @@ std::uint64_t parse_memory_limit(const std::string& text, const std::string& wha
 }
 
 double parse_time_limit(const std::string& text, const std::string& what) {
-    if (lower(trimmed(text)) == "none") return 0.0;
+    if (lowercase(trimmed(text)) == "none") return 0.0;
     double n = 0;
     std::string unit;
     if (!number_and_unit(text, n, unit)) throw Error(what, "expects seconds, or a time such as 90 s, 30 min, 6 h, or none, got '" + text + "'");
-    const std::string u = lower(unit);
+    const std::string u = lowercase(unit);
     double scale = 0;
     if (u.empty() || u == "s" || u == "sec" || u == "seconds") scale = 1;
     else if (u == "min" || u == "minutes") scale = 60;

@@ -7,6 +7,7 @@
 #include <npf/converter/tensor_file.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
+#include <npf/core/text.h>
 #include <npf/shading/npf_brdf.h>
 #include <npf/shading/npf_texture_file.h>
 
@@ -18,11 +19,6 @@
 namespace npf {
 
 namespace {
-
-bool ends_with(const std::string& text, const char* tail) {
-    const std::size_t n = std::strlen(tail);
-    return text.size() >= n && text.compare(text.size() - n, n, tail) == 0;
-}
 
 // A file that is not a recipe, by its contents.
 std::unique_ptr<Brdf> open_material_file(const std::string& path) {

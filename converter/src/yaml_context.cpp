@@ -2,8 +2,9 @@
 
 #include <npf/core/error.h>
 
+#include <npf/core/text.h>
+
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -84,15 +85,7 @@ void YamlContext::only(const YAML::Node& map, const std::string& key, const std:
 namespace {
 
 bool names_a_spectrum_file(const std::string& text) {
-    const auto ends_with = [&](const char* suffix) {
-        const std::size_t n = std::char_traits<char>::length(suffix);
-        if (text.size() < n) return false;
-        for (std::size_t k = 0; k < n; ++k) {
-            if (std::tolower(static_cast<unsigned char>(text[text.size() - n + k])) != suffix[k]) return false;
-        }
-        return true;
-    };
-    return ends_with(".spd") || text.find('/') != std::string::npos;
+    return ends_with(lowercase(text), ".spd") || text.find('/') != std::string::npos;
 }
 
 }  // namespace

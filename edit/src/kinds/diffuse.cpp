@@ -35,7 +35,7 @@ DiffuseSource read_recipe(const YamlContext& cx, const YAML::Node& v) {
         d.path = cx.path(v["from"], "from");
     } else if (v["spectrum"]) {
         d.from = DiffuseSource::From::Spectrum;
-        d.spectrum = detail::recipe_spectrum(cx, v["spectrum"], "spectrum");
+        d.spectrum = cx.spectrum(v["spectrum"], "spectrum");
         for (double x : d.spectrum.values()) {
             if (x < 0.0) cx.fail(v["spectrum"], "spectrum", "albedo values are >= 0");
         }

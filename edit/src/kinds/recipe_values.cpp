@@ -1,7 +1,5 @@
 #include "recipe_values.h"
 
-#include <vector>
-
 namespace npf::edit::detail {
 
 double number_or_mapping(const YamlContext& cx, const YAML::Node& node, const std::string& key, const char* inner) {
@@ -9,10 +7,6 @@ double number_or_mapping(const YamlContext& cx, const YAML::Node& node, const st
     cx.only(node, key, {inner});
     if (!node[inner]) cx.fail(node, key, std::string("missing '") + inner + "'");
     return cx.number(node[inner], inner);
-}
-
-color::SampledSpectrum recipe_spectrum(const YamlContext& cx, const YAML::Node& node, const std::string& key) {
-    return cx.spectrum(node, key);
 }
 
 color::Rgb recipe_rgb(const YamlContext& cx, const YAML::Node& node, const std::string& key) {

@@ -14,9 +14,6 @@ namespace npf::edit::detail {
 // A number, or a mapping with the one key `inner` ("rotate: 30" or "rotate: {degrees: 30}").
 double number_or_mapping(const YamlContext& cx, const YAML::Node& node, const std::string& key, const char* inner);
 
-// A spectrum in any spelling material recipes accept too (YamlContext::spectrum).
-color::SampledSpectrum recipe_spectrum(const YamlContext& cx, const YAML::Node& node, const std::string& key);
-
 // [r, g, b], each >= 0.
 color::Rgb recipe_rgb(const YamlContext& cx, const YAML::Node& node, const std::string& key);
 

@@ -66,8 +66,8 @@ FilmBase recipe_base(const YamlContext& cx, const YAML::Node& node) {
     if (!node["eta"]) cx.fail(node, "base", "missing 'eta'");
     FilmBase b;
     b.fitted = false;
-    b.eta = detail::recipe_spectrum(cx, node["eta"], "eta");
-    if (node["k"]) b.k = detail::recipe_spectrum(cx, node["k"], "k");
+    b.eta = cx.spectrum(node["eta"], "eta");
+    if (node["k"]) b.k = cx.spectrum(node["k"], "k");
     b.label = "given index";
     return b;
 }
@@ -79,7 +79,7 @@ Film read_recipe(const YamlContext& cx, const YAML::Node& v) {
     Film f;
     f.film.thickness_nm = cx.number(v["thickness"], "thickness");
     if (f.film.thickness_nm < 0.0) cx.fail(v["thickness"], "thickness", "must not be negative (nm)");
-    f.film.film_eta = detail::recipe_spectrum(cx, v["film_ior"], "film_ior");
+    f.film.film_eta = cx.spectrum(v["film_ior"], "film_ior");
     for (double x : f.film.film_eta.values()) {
         if (!(x > 0.0)) cx.fail(v["film_ior"], "film_ior", "indices are positive");
     }

@@ -1,6 +1,7 @@
 // Small text helpers shared by the libraries' messages and metadata.
 #pragma once
 
+#include <cctype>
 #include <cstdio>
 #include <string>
 
@@ -19,6 +20,17 @@ inline std::string six_digits(double v) {
     char buffer[32];
     std::snprintf(buffer, sizeof buffer, "%.6g", v);
     return buffer;
+}
+
+// Whether `text` ends with `tail` (exactly, case and all).
+inline bool ends_with(const std::string& text, const std::string& tail) {
+    return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// ASCII letters lowered (file extensions, keywords); other bytes kept.
+inline std::string lowercase(std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
 }
 
 }  // namespace npf
