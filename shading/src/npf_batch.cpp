@@ -29,8 +29,9 @@ bool cpu_has_avx2() {
 #endif
 }
 
-bool above_horizon_and_finite(float x, float y, float z) {
-    return z > 0.f && std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
+// Pair i of the arrays, for the domain check shared with the scalar closure (pair_in_domain).
+bool in_domain(const DirectionArrays& view, const DirectionArrays& light, std::size_t i) {
+    return pair_in_domain(Vec3(view.x[i], view.y[i], view.z[i]), Vec3(light.x[i], light.y[i], light.z[i]));
 }
 
 // The direction arrays of block [b, b + kBlock) as the kernels take them.
@@ -67,11 +68,11 @@ const char* batch_isa_name(BatchIsa isa) {
 
 void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const DirectionArrays& light,
                             BatchWavelengths wavelengths, float* values, float* pdf) const {
-    const bool stored = m_model.channels.is_rgb() || !wavelengths.nm;
-    const std::size_t count = stored ? m_model.channel_count() : std::size_t(std::max(wavelengths.count, 0));
+    const std::size_t count = value_count(wavelengths);
+    const bool stored = !wavelengths.nm || m_model.channels.is_rgb();
     auto request_of = [&](std::size_t i) {
         if (stored) return WavelengthRequest::stored();
-        return WavelengthRequest::at(wavelengths.nm + (wavelengths.per_pair ? i * count : 0), int(count));
+        return WavelengthRequest::at(wavelengths.nm + (wavelengths.per_pair ? i * count : 0), wavelengths.count);
     };
     auto zero = [&](std::size_t i) {
         for (std::size_t k = 0; k < count; ++k) values[k * n + i] = 0.f;
@@ -104,8 +105,7 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
         }
         for (std::size_t j = 0; j < m; ++j) {
             const std::size_t i = b + j;
-            if (!above_horizon_and_finite(view.x[i], view.y[i], view.z[i]) ||
-                !above_horizon_and_finite(light.x[i], light.y[i], light.z[i])) {
+            if (!in_domain(view, light, i)) {
                 zero(i);
                 continue;
             }
@@ -130,9 +130,7 @@ void NpfClosure::pdf_batch(std::size_t n, const DirectionArrays& view, const Dir
         }
         for (std::size_t j = 0; j < m; ++j) {
             const std::size_t i = b + j;
-            const bool ok = above_horizon_and_finite(view.x[i], view.y[i], view.z[i]) &&
-                            above_horizon_and_finite(light.x[i], light.y[i], light.z[i]);
-            pdf[i] = ok ? pdf_at(h.theta_h[j], h.u_h[j], h.phi_h[j], h.cos_d[j], light.z[i]) : 0.f;
+            pdf[i] = in_domain(view, light, i) ? pdf_at(h.theta_h[j], h.u_h[j], h.phi_h[j], h.cos_d[j], light.z[i]) : 0.f;
         }
     }
 }
@@ -155,8 +153,7 @@ void NpfClosure::sample_batch(std::size_t n, const DirectionArrays& view, const 
     } else {
         eval_batch(n, view, drawn, wavelengths, weights, pdf);
     }
-    const std::size_t count = m_model.channels.is_rgb() || !wavelengths.nm ? m_model.channel_count()
-                                                                           : std::size_t(std::max(wavelengths.count, 0));
+    const std::size_t count = value_count(wavelengths);
     for (std::size_t i = 0; i < n; ++i) {
         if (pdf[i] > 0.f) {
             if (!weights) continue;

@@ -70,8 +70,6 @@ double combine_direct(const SpectralBasis& s, std::size_t c, const NpfModel::Loo
     return v > 0.0 ? v : 0.0;
 }
 
-bool finite(const Vec3& w) { return std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z); }
-
 // ---- Validation ------------------------------------------------------------------------------
 
 // Finite and within kMaxMaterialValue: a finite but absurd value (3e38) would overflow the
@@ -236,7 +234,7 @@ void NpfModel::validate(const std::string& source) const {
 }
 
 bool NpfModel::half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const {
-    if (!(wi.z > 0.f) || !(wo.z > 0.f) || !finite(wi) || !finite(wo)) return false;
+    if (!pair_in_domain(wi, wo)) return false;
     h.cos_i = wi.z;
     h.cos_o = wo.z;
     half_vector_angles(wi.x, wi.y, wi.z, wo.x, wo.y, wo.z, d_phi > 1, h.theta_h, h.u_h, h.phi_h, h.cos_d);
@@ -244,7 +242,7 @@ bool NpfModel::half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const 
 }
 
 bool NpfModel::prepare(const Vec3& wi, const Vec3& wo, Lookup& at, bool project_bases) const {
-    if (!(wi.z > 0.f) || !(wo.z > 0.f) || !finite(wi) || !finite(wo)) return false;
+    if (!pair_in_domain(wi, wo)) return false;
     PairAngles a;
     pair_angles(wi.x, wi.y, wi.z, wo.x, wo.y, wo.z, angle_needs(), a);
     position(a, at, project_bases);

@@ -78,6 +78,8 @@ public:
     std::size_t channel_count() const { return m_model.channel_count(); }
     // How many values eval/sample write for `request` (3 for RGB materials).
     std::size_t value_count(WavelengthRequest request) const;
+    // The same for a batch's wavelengths (per pair).
+    std::size_t value_count(BatchWavelengths w) const { return value_count(WavelengthRequest::at(w.nm, w.count)); }
     // The model: complete on the memory path; on the texture path its D and G basis tables are
     // empty (they live in the TextureSystem), everything else is there.
     const NpfModel& model() const { return m_model; }

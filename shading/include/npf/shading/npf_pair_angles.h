@@ -8,7 +8,16 @@
 #include <npf/shading/npf_equation.h>
 #include <npf/shading/table_interpolation.h>
 
+#include <cmath>
+
 namespace npf {
+
+// The pairs an evaluation answers (the scalar and the batched closure alike): both directions
+// strictly above the horizon and every component finite. Elsewhere f_r and the pdf are 0.
+inline bool pair_in_domain(const Vec3& wi, const Vec3& wo) {
+    const auto finite = [](const Vec3& w) { return std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z); };
+    return wi.z > 0.f && wo.z > 0.f && finite(wi) && finite(wo);
+}
 
 template <class T>
 struct PairAnglesOf {
