@@ -3,7 +3,6 @@
 #include <npf/core/error.h>
 #include <npf/core/number_text.h>
 
-
 namespace npf::edit {
 
 namespace kinds {

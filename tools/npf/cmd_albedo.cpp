@@ -267,7 +267,6 @@ int run_albedo(const std::vector<std::string>& args) {
             out += channels.is_rgb() ? json_string(names[c]) : json_number(channels.wavelengths()[c]);
         }
         out += "], \"samples\": " + std::to_string(options.estimator.samples);
-
         out += ", \"columns\": [\"theta_deg\", \"phi_deg\", \"albedo\", \"albedo_se\"";
         if (against) out += ", \"reference\", \"reference_se\", \"relative_difference\"";
         out += "], \"rows\": [";
