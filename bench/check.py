@@ -65,6 +65,14 @@ def main():
     if args.repeats < 2:
         sys.exit("bench/check.py: --repeats must be at least 2 (the noise is the spread between runs)")
 
+    baseline = None
+    if not args.update:  # read before the minutes of timing, so that a bad baseline fails at once
+        try:
+            with open(args.baseline) as f:
+                baseline = json.load(f)
+        except (OSError, ValueError) as e:
+            sys.exit(f"bench/check.py: {args.baseline}: cannot read the baseline ({e}); record one with --update")
+
     runs = []
     with tempfile.TemporaryDirectory(prefix="npf-bench-check-") as folder:
         for k in range(args.repeats):
@@ -87,11 +95,6 @@ def main():
         print(f"bench/check.py: wrote {args.baseline}")
         return 0
 
-    try:
-        with open(args.baseline) as f:
-            baseline = json.load(f)
-    except (OSError, ValueError) as e:
-        sys.exit(f"bench/check.py: {args.baseline}: cannot read the baseline ({e}); record one with --update")
     slower = []
     print(f"{'measure':22} {'baseline':>10} {'now':>10} {'change':>8} {'noise':>7}  verdict")
     for key in keys:
