@@ -6,6 +6,7 @@
 #include <npf/converter/fit/fit_error.h>
 #include <npf/converter/open_material.h>
 #include <npf/core/error.h>
+#include <npf/core/simd_isa.h>
 
 #include "synthetic_rgl.h"
 
@@ -335,6 +336,36 @@ TEST(Awls, TheFitDoesNotDependOnTheThreadCount) {
         EXPECT_EQ(fits[k].G, fits[0].G) << k;
         EXPECT_EQ(fits[k].rho_d, fits[0].rho_d) << k;
         EXPECT_EQ(fits[k].rho_s, fits[0].rho_s) << k;
+    }
+}
+
+// The passes over the samples are built for AVX2 and for any CPU (block_passes.h): the fit must
+// not depend on which ran. Blocks of 4 lanes (three channels) and of 16 (20 wavelengths: a
+// full block and a partial one).
+TEST(Awls, TheFitIsTheSameOnEveryInstructionSet) {
+    if (!npf::simd_isa_supported(npf::SimdIsa::Avx2)) GTEST_SKIP() << "this CPU has no AVX2";
+    npf::AnalyticMaterial m = plastic(0.15f, 0.3f);
+    for (int wavelengths : {3, 20}) {
+        SCOPED_TRACE(wavelengths);
+        m.wavelengths.clear();
+        for (int k = 0; k < wavelengths; ++k) m.wavelengths.push_back(400.f + 300.f * float(k) / float(wavelengths - 1));
+        const AnalyticBrdf source(m);
+        npf::AwlsOptions o;
+        o.grid = {16, 8, 16, 16};
+        o.g_theta = 16;
+        o.g_phi = 8;
+        o.channels = npf::Channels::spectral(m.wavelengths);
+        o.max_iterations = 12;
+        std::vector<npf::NpfFactors> fits;
+        for (npf::SimdIsa isa : {npf::SimdIsa::Portable, npf::SimdIsa::Avx2}) {
+            const npf::SimdIsaScope scope(isa);
+            fits.push_back(npf::fit_npf(source, o));
+        }
+        EXPECT_EQ(fits[1].D, fits[0].D);
+        EXPECT_EQ(fits[1].F, fits[0].F);
+        EXPECT_EQ(fits[1].G, fits[0].G);
+        EXPECT_EQ(fits[1].rho_d, fits[0].rho_d);
+        EXPECT_EQ(fits[1].rho_s, fits[0].rho_s);
     }
 }
 

@@ -9,6 +9,7 @@
 #include <npf/shading/npf_batch.h>
 #include <npf/shading/npf_closure.h>
 #include <npf/core/error.h>
+#include <npf/core/simd_isa.h>
 #include <npf/shading/npf_texture_file.h>
 
 #include <gtest/gtest.h>
@@ -21,7 +22,7 @@
 
 namespace {
 
-using npf::BatchIsa;
+using npf::SimdIsa;
 using npf::BatchWavelengths;
 using npf::DirectionArrays;
 using npf::NpfClosure;
@@ -59,17 +60,11 @@ Pairs make_pairs(std::size_t n, unsigned seed) {
     return p;
 }
 
-std::vector<BatchIsa> isas() {
-    std::vector<BatchIsa> out = {BatchIsa::Portable};
-    if (npf::batch_isa_supported(BatchIsa::Avx2)) out.push_back(BatchIsa::Avx2);
+std::vector<SimdIsa> isas() {
+    std::vector<SimdIsa> out = {SimdIsa::Portable};
+    if (npf::simd_isa_supported(SimdIsa::Avx2)) out.push_back(SimdIsa::Avx2);
     return out;
 }
-
-// Restores the process-wide choice however the test ends.
-struct IsaScope {
-    explicit IsaScope(BatchIsa isa) { npf::set_batch_isa(isa); }
-    ~IsaScope() { npf::set_batch_isa(BatchIsa::Auto); }
-};
 
 void expect_batch_equals_scalar(const NpfClosure& c, const Pairs& p, BatchWavelengths wl, const std::vector<float>& hero) {
     const std::size_t n = p.size();
@@ -148,9 +143,9 @@ TEST(BatchClosure, EqualsTheScalarClosureOnEveryPathAndInstructionSet) {
         std::mt19937 rng(5);
         std::uniform_real_distribution<float> nm(380.f, 720.f);
         for (std::size_t i = 0; i < 4 * pairs.size(); ++i) per_pair.push_back(nm(rng));
-        for (BatchIsa isa : isas()) {
-            SCOPED_TRACE(npf::batch_isa_name(isa));
-            const IsaScope scope(isa);
+        for (SimdIsa isa : isas()) {
+            SCOPED_TRACE(npf::simd_isa_name(isa));
+            const npf::SimdIsaScope scope(isa);
             expect_batch_equals_scalar(memory, pairs, BatchWavelengths::stored(), {});
             expect_batch_equals_scalar(memory, pairs, BatchWavelengths::shared(shared.data(), 4), shared);
             expect_batch_equals_scalar(memory, pairs, BatchWavelengths::each_pair(per_pair.data(), 4), per_pair);
@@ -172,16 +167,16 @@ TEST(BatchClosure, EmptyAndSingleBatches) {
 }
 
 TEST(BatchClosure, InstructionSetChoice) {
-    EXPECT_TRUE(npf::batch_isa_supported(BatchIsa::Portable));
-    EXPECT_NE(npf::batch_isa(), BatchIsa::Auto);  // Auto resolves to what runs
-    if (!npf::batch_isa_supported(BatchIsa::Avx2)) {
-        EXPECT_THROW(npf::set_batch_isa(BatchIsa::Avx2), npf::Error);
+    EXPECT_TRUE(npf::simd_isa_supported(SimdIsa::Portable));
+    EXPECT_NE(npf::simd_isa(), SimdIsa::Auto);  // Auto resolves to what runs
+    if (!npf::simd_isa_supported(SimdIsa::Avx2)) {
+        EXPECT_THROW(npf::set_simd_isa(SimdIsa::Avx2), npf::Error);
     }
     {
-        const IsaScope scope(BatchIsa::Portable);
-        EXPECT_EQ(npf::batch_isa(), BatchIsa::Portable);
+        const npf::SimdIsaScope scope(SimdIsa::Portable);
+        EXPECT_EQ(npf::simd_isa(), SimdIsa::Portable);
     }
-    EXPECT_STREQ(npf::batch_isa_name(BatchIsa::Avx2), "avx2");
+    EXPECT_STREQ(npf::simd_isa_name(SimdIsa::Avx2), "avx2");
 }
 
 }  // namespace

@@ -6,10 +6,9 @@
 #include "batch_angles.h"
 #include "finite_float.h"
 
-#include <npf/core/error.h>
+#include <npf/core/simd_isa.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 namespace npf {
@@ -17,17 +16,6 @@ namespace npf {
 namespace {
 
 using batch_detail::kBlock;
-
-std::atomic<int> g_isa{int(BatchIsa::Auto)};
-
-bool cpu_has_avx2() {
-#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
-    static const bool has = __builtin_cpu_supports("avx2");
-    return has;
-#else
-    return false;
-#endif
-}
 
 // Pair i of the arrays, for the domain check shared with the scalar closure (pair_in_domain).
 bool in_domain(const DirectionArrays& view, const DirectionArrays& light, std::size_t i) {
@@ -43,28 +31,6 @@ struct BlockPointers {
 };
 
 }  // namespace
-
-bool batch_isa_supported(BatchIsa isa) { return isa != BatchIsa::Avx2 || cpu_has_avx2(); }
-
-void set_batch_isa(BatchIsa isa) {
-    if (!batch_isa_supported(isa)) throw Error("batched shading", "this CPU has no AVX2");
-    g_isa = int(isa);
-}
-
-BatchIsa batch_isa() {
-    const auto isa = BatchIsa(g_isa.load());
-    if (isa != BatchIsa::Auto) return isa;
-    return cpu_has_avx2() ? BatchIsa::Avx2 : BatchIsa::Portable;
-}
-
-const char* batch_isa_name(BatchIsa isa) {
-    switch (isa) {
-    case BatchIsa::Auto: return "auto";
-    case BatchIsa::Portable: return "portable";
-    case BatchIsa::Avx2: return "avx2";
-    }
-    return "?";
-}
 
 void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const DirectionArrays& light,
                             BatchWavelengths wavelengths, float* values, float* pdf) const {
@@ -91,7 +57,7 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
         }
         return;
     }
-    const bool avx2 = batch_isa() == BatchIsa::Avx2;
+    const bool avx2 = simd_isa() == SimdIsa::Avx2;
     const AngleNeeds needs = m_model.angle_needs();
     batch_detail::BlockAngles angles;
     NpfModel::Lookup at;
@@ -117,7 +83,7 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
 }
 
 void NpfClosure::pdf_batch(std::size_t n, const DirectionArrays& view, const DirectionArrays& light, float* pdf) const {
-    const bool avx2 = batch_isa() == BatchIsa::Avx2;
+    const bool avx2 = simd_isa() == SimdIsa::Avx2;
     const bool d_azimuth = m_model.d_phi > 1;
     batch_detail::BlockHalfVectors h;
     for (std::size_t b = 0; b < n; b += kBlock) {

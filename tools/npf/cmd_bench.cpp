@@ -10,6 +10,7 @@
 #include <npf/core/json_text.h>
 #include <npf/core/input_file.h>
 #include <npf/core/parallel.h>
+#include <npf/core/simd_isa.h>
 #include <npf/shading/npf_closure.h>
 #include <npf/shading/npf_texture_file.h>
 
@@ -301,7 +302,7 @@ int run_bench(const std::vector<std::string>& args) {
         for (const Row& r : rows) out += std::string(", \"") + r.key + "\": " + json_number(r.t.ns_per_call, kJsonDigits);
         if (!raw) out += ", \"eval_raw_ns\": null";
         out += ", \"speedup_memory_vs_raw\": " + (raw ? json_number(speedup, kJsonDigits) : std::string("null"));
-        out += std::string(", \"batch_isa\": \"") + batch_isa_name(batch_isa()) + "\"";
+        out += std::string(", \"batch_isa\": \"") + simd_isa_name(simd_isa()) + "\"";
         out += ", \"threads\": " + std::to_string(threads) + ", \"eval_memory_calls_per_s_threaded\": " +
                json_number(throughput, kJsonDigits) + "}\n";
         std::fputs(out.c_str(), stdout);
@@ -315,7 +316,7 @@ int run_bench(const std::vector<std::string>& args) {
         std::printf("  %-44s %10.1f %12llu %8.2f\n", r.label, r.t.ns_per_call, (unsigned long long)r.t.calls,
                     r.t.seconds);
     }
-    std::printf("  batched calls ran with %s\n", batch_isa_name(batch_isa()));
+    std::printf("  batched calls ran with %s\n", simd_isa_name(simd_isa()));
     if (raw) std::printf("  memory eval is %.1f times faster than the raw evaluation\n", speedup);
     std::printf("  memory eval on %d threads: %.3g calls/s (%.1f ns/call per thread)\n", threads, throughput,
                 1e9 * threads / throughput);

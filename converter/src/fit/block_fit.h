@@ -3,6 +3,7 @@
 // one contiguous load. The sample geometry (cells, weights, cosines) is shared by the lanes.
 #pragma once
 
+#include "block_passes.h"
 #include "sample_set.h"
 
 #include <npf/converter/fit/awls.h>
@@ -93,6 +94,7 @@ private:
     const AwlsOptions& m_o;
     std::vector<std::size_t> m_split;  // D-cell ranges of the slices
     int m_threads = 1;
+    const BlockPasses<L>& m_passes;    // the sums over the samples, for this CPU
     std::vector<float> m_rho, m_w;     // [samples][L]
     std::array<double, L> m_sw{}, m_swr{}, m_swrr{};  // sums of w, w rho, w rho^2
     std::vector<double> m_cell;        // per D cell: [3][L] sums of the D update

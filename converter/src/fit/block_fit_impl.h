@@ -12,19 +12,11 @@
 
 namespace npf::fit_detail {
 
-// G at both directions of sample s for every lane: linear in theta between the owner cell and
-// its neighbour (SampleSet), never below 0.
+// The passes' view of a set of factors; rho_d and rho_s as floats in `rho` ([2][L]).
 template <int L>
-inline void interpolate_g(const std::vector<float>& G, const SampleSet& s, std::uint32_t k, float* gi, float* go) {
-    const float* __restrict a = &G[std::size_t(s.gi[k]) * L];
-    const float* __restrict a2 = &G[std::size_t(s.gi2[k]) * L];
-    const float* __restrict b = &G[std::size_t(s.go[k]) * L];
-    const float* __restrict b2 = &G[std::size_t(s.go2[k]) * L];
-    const float ti = s.ti[k], to = s.to[k];
-    for (int l = 0; l < L; ++l) {
-        gi[l] = std::max(0.f, a[l] + ti * (a2[l] - a[l]));
-        go[l] = std::max(0.f, b[l] + to * (b2[l] - b[l]));
-    }
+PassFactors pass_factors(const BlockFactors<L>& f, float (&rho)[2][L]) {
+    for (int l = 0; l < L; ++l) rho[0][l] = float(f.rho_d[std::size_t(l)]), rho[1][l] = float(f.rho_s[std::size_t(l)]);
+    return {f.D.data(), f.F.data(), f.G.data(), rho[0], rho[1]};
 }
 
 template <int L>
@@ -33,6 +25,7 @@ BlockFit<L>::BlockFit(const SampleSet& samples, const AwlsOptions& options, int 
       m_o(options),
       m_split(balanced_cell_split(samples, kSlices)),
       m_threads(std::clamp(threads, 1, kSlices)),
+      m_passes(block_passes<L>()),
       m_trace(std::getenv("NPF_AWLS_TRACE") != nullptr) {
     m_rho.resize(samples.size() * L);
     m_w.resize(samples.size() * L);
@@ -156,34 +149,10 @@ BlockFactors<L> BlockFit<L>::warm_start(const BlockFactors<L>& from, int lane) c
 // for rho_d, then back-substitute (both clamped at 0).
 template <int L>
 void BlockFit<L>::update_d_and_diffuse(BlockFactors<L>& f) {
-    for_each_slice([&](int t) {
-        float rs[L];
-        for (int l = 0; l < L; ++l) rs[l] = float(f.rho_s[std::size_t(l)]);
-        for (std::size_t k = m_split[std::size_t(t)]; k < m_split[std::size_t(t) + 1]; ++k) {
-            float wb[L] = {}, wbb[L] = {}, wrb[L] = {};
-            for (std::uint32_t r = m_s.cell_ring_begin[k]; r < m_s.cell_ring_begin[k + 1]; ++r) {
-                const float* __restrict F = &f.F[std::size_t(m_s.ring_f[r]) * L];
-                float rsf[L];
-                for (int l = 0; l < L; ++l) rsf[l] = rs[l] * F[l];
-                for (std::uint32_t s = m_s.ring_begin[r]; s < m_s.ring_begin[r + 1]; ++s) {
-                    float Gi[L], Go[L];
-                    interpolate_g<L>(f.G, m_s, s, Gi, Go);
-                    const float c = m_s.inv_cc[s];
-                    const float* __restrict rho = &m_rho[std::size_t(s) * L];
-                    const float* __restrict w = &m_w[std::size_t(s) * L];
-                    for (int l = 0; l < L; ++l) {
-                        const float b = rsf[l] * Gi[l] * Go[l] * c;
-                        const float w_b = w[l] * b;
-                        wb[l] += w_b;
-                        wbb[l] += w_b * b;
-                        wrb[l] += w_b * rho[l];
-                    }
-                }
-            }
-            double* cell = &m_cell[k * 3 * L];
-            for (int l = 0; l < L; ++l) cell[l] = wb[l], cell[L + l] = wbb[l], cell[2 * L + l] = wrb[l];
-        }
-    });
+    float rho[2][L];
+    const PassFactors x = pass_factors(f, rho);
+    const PassSamples samples = pass_samples(m_s, m_rho.data(), m_w.data());
+    for_each_slice([&](int t) { m_passes.d_sums(samples, x, m_split[std::size_t(t)], m_split[std::size_t(t) + 1], m_cell.data()); });
     for (int l = 0; l < L; ++l) {
         // rho_d minimises the error with every D_k at its optimum for that rho_d, clamped at 0:
         // a convex, piecewise quadratic function of rho_d. A cell whose D_k is clamped gives
@@ -219,33 +188,13 @@ void BlockFit<L>::update_d_and_diffuse(BlockFactors<L>& f) {
 
 template <int L>
 void BlockFit<L>::update_f(BlockFactors<L>& f) {
+    float rho[2][L];
+    const PassFactors x = pass_factors(f, rho);
+    const PassSamples samples = pass_samples(m_s, m_rho.data(), m_w.data());
     for_each_slice([&](int t) {
         std::vector<double>& acc = m_f_acc[std::size_t(t)];
         acc.assign(2 * m_s.f_cells * L, 0.0);
-        float rd[L], rs[L];
-        for (int l = 0; l < L; ++l) rd[l] = float(f.rho_d[std::size_t(l)]), rs[l] = float(f.rho_s[std::size_t(l)]);
-        for (std::size_t k = m_split[std::size_t(t)]; k < m_split[std::size_t(t) + 1]; ++k) {
-            float rsd[L];
-            for (int l = 0; l < L; ++l) rsd[l] = rs[l] * f.D[k * L + l];
-            for (std::uint32_t r = m_s.cell_ring_begin[k]; r < m_s.cell_ring_begin[k + 1]; ++r) {
-                float num[L] = {}, den[L] = {};
-                for (std::uint32_t s = m_s.ring_begin[r]; s < m_s.ring_begin[r + 1]; ++s) {
-                    float Gi[L], Go[L];
-                    interpolate_g<L>(f.G, m_s, s, Gi, Go);
-                    const float c = m_s.inv_cc[s];
-                    const float* __restrict rho = &m_rho[std::size_t(s) * L];
-                    const float* __restrict w = &m_w[std::size_t(s) * L];
-                    for (int l = 0; l < L; ++l) {
-                        const float b = rsd[l] * Gi[l] * Go[l] * c;
-                        const float w_b = w[l] * b;
-                        num[l] += w_b * (rho[l] - rd[l]);
-                        den[l] += w_b * b;
-                    }
-                }
-                double* a = &acc[std::size_t(m_s.ring_f[r]) * 2 * L];
-                for (int l = 0; l < L; ++l) a[l] += num[l], a[L + l] += den[l];
-            }
-        }
+        m_passes.f_sums(samples, x, m_split[std::size_t(t)], m_split[std::size_t(t) + 1], acc.data());
     });
     for (std::size_t j = 0; j < m_s.f_cells; ++j) {
         for (int l = 0; l < L; ++l) {
@@ -262,50 +211,13 @@ void BlockFit<L>::update_f(BlockFactors<L>& f) {
 // from oscillating between the two copies.
 template <int L>
 void BlockFit<L>::update_g(BlockFactors<L>& f) {
+    float rho[2][L];
+    const PassFactors x = pass_factors(f, rho);
+    const PassSamples samples = pass_samples(m_s, m_rho.data(), m_w.data());
     for_each_slice([&](int t) {
         std::vector<float>& acc = m_g_acc[std::size_t(t)];
         acc.assign(2 * m_s.g_cells * L, 0.f);
-        float rd[L], rs[L];
-        for (int l = 0; l < L; ++l) rd[l] = float(f.rho_d[std::size_t(l)]), rs[l] = float(f.rho_s[std::size_t(l)]);
-        for (std::size_t k = m_split[std::size_t(t)]; k < m_split[std::size_t(t) + 1]; ++k) {
-            float rsd[L];
-            for (int l = 0; l < L; ++l) rsd[l] = rs[l] * f.D[k * L + l];
-            for (std::uint32_t r = m_s.cell_ring_begin[k]; r < m_s.cell_ring_begin[k + 1]; ++r) {
-                const float* __restrict F = &f.F[std::size_t(m_s.ring_f[r]) * L];
-                float rsdf[L];
-                for (int l = 0; l < L; ++l) rsdf[l] = rsd[l] * F[l];
-                for (std::uint32_t s = m_s.ring_begin[r]; s < m_s.ring_begin[r + 1]; ++s) {
-                    float Gi[L], Go[L];
-                    interpolate_g<L>(f.G, m_s, s, Gi, Go);
-                    const float c = m_s.inv_cc[s];
-                    const float* __restrict rho = &m_rho[std::size_t(s) * L];
-                    const float* __restrict w = &m_w[std::size_t(s) * L];
-                    float common[L], wa[L];
-                    for (int l = 0; l < L; ++l) {
-                        common[l] = rsdf[l] * c;
-                        wa[l] = w[l] * (rho[l] - rd[l]);
-                    }
-                    // Each direction updates the cell it lies in (its owner), the interpolated
-                    // value's shape within the cell taken from the current table.
-                    const float* __restrict Gi_owner = &f.G[std::size_t(m_s.gi[s]) * L];
-                    const float* __restrict Go_owner = &f.G[std::size_t(m_s.go[s]) * L];
-                    float* __restrict ai = &acc[std::size_t(m_s.gi[s]) * 2 * L];
-                    for (int l = 0; l < L; ++l) {
-                        const float shape = Gi_owner[l] > 0.f ? Gi[l] / Gi_owner[l] : 1.f;
-                        const float b = common[l] * Go[l] * shape;
-                        ai[l] += wa[l] * b;
-                        ai[L + l] += w[l] * b * b;
-                    }
-                    float* __restrict ao = &acc[std::size_t(m_s.go[s]) * 2 * L];
-                    for (int l = 0; l < L; ++l) {
-                        const float shape = Go_owner[l] > 0.f ? Go[l] / Go_owner[l] : 1.f;
-                        const float b = common[l] * Gi[l] * shape;
-                        ao[l] += wa[l] * b;
-                        ao[L + l] += w[l] * b * b;
-                    }
-                }
-            }
-        }
+        m_passes.g_sums(samples, x, m_split[std::size_t(t)], m_split[std::size_t(t) + 1], acc.data());
     });
     std::vector<double> sums(2 * m_s.g_cells * L, 0.0);
     std::array<double, L> mean_den{};
@@ -353,49 +265,14 @@ template <int L>
 void BlockFit<L>::update_diffuse_specular(BlockFactors<L>* const* candidates, int N, std::array<double, L>* error) {
     constexpr int kSums = 5;  // w m, w m^2, w r, w r m, w r^2
     std::vector<std::array<double, kMaxCandidates * kSums * L>> sums(static_cast<std::size_t>(kSlices));
-    float rd0[kMaxCandidates][L], rs0[kMaxCandidates][L];
-    for (int c = 0; c < N; ++c) {
-        for (int l = 0; l < L; ++l) rd0[c][l] = float(candidates[c]->rho_d[std::size_t(l)]), rs0[c][l] = float(candidates[c]->rho_s[std::size_t(l)]);
-    }
+    float rho[kMaxCandidates][2][L];
+    PassFactors views[kMaxCandidates];
+    for (int c = 0; c < N; ++c) views[c] = pass_factors(*candidates[c], rho[c]);
+    const PassSamples samples = pass_samples(m_s, m_rho.data(), m_w.data());
     for_each_slice([&](int t) {
-        std::array<double, kMaxCandidates * kSums * L>& out = sums[std::size_t(t)];
+        auto& out = sums[std::size_t(t)];
         out.fill(0.0);
-        for (std::size_t k = m_split[std::size_t(t)]; k < m_split[std::size_t(t) + 1]; ++k) {
-            for (std::uint32_t r = m_s.cell_ring_begin[k]; r < m_s.cell_ring_begin[k + 1]; ++r) {
-                // The candidates share the pass over the samples (the data and the geometry are
-                // read once): each further one costs its arithmetic only.
-                for (int c = 0; c < N; ++c) {
-                    const BlockFactors<L>& x = *candidates[c];
-                    const float* __restrict Dk = &x.D[k * L];
-                    const float* __restrict F = &x.F[std::size_t(m_s.ring_f[r]) * L];
-                    const float* __restrict rd = rd0[c];
-                    const float* __restrict rs = rs0[c];
-                    float df[L], wm[L] = {}, wmm[L] = {}, wr[L] = {}, wrm[L] = {}, wrr[L] = {};
-                    for (int l = 0; l < L; ++l) df[l] = Dk[l] * F[l];
-                    for (std::uint32_t s = m_s.ring_begin[r]; s < m_s.ring_begin[r + 1]; ++s) {
-                        float Gi[L], Go[L];
-                        interpolate_g<L>(x.G, m_s, s, Gi, Go);
-                        const float cc = m_s.inv_cc[s];
-                        const float* __restrict rho = &m_rho[std::size_t(s) * L];
-                        const float* __restrict w = &m_w[std::size_t(s) * L];
-                        for (int l = 0; l < L; ++l) {
-                            const float m = df[l] * Gi[l] * Go[l] * cc;
-                            const float res = rho[l] - rd[l] - rs[l] * m;
-                            const float w_m = w[l] * m, w_r = w[l] * res;
-                            wm[l] += w_m;
-                            wmm[l] += w_m * m;
-                            wr[l] += w_r;
-                            wrm[l] += w_r * m;
-                            wrr[l] += w_r * res;
-                        }
-                    }
-                    double* o = &out[std::size_t(c) * kSums * L];
-                    for (int l = 0; l < L; ++l) {
-                        o[l] += wm[l], o[L + l] += wmm[l], o[2 * L + l] += wr[l], o[3 * L + l] += wrm[l], o[4 * L + l] += wrr[l];
-                    }
-                }
-            }
-        }
+        m_passes.error_sums(samples, views, N, m_split[std::size_t(t)], m_split[std::size_t(t) + 1], out.data());
     });
     for (int c = 0; c < N; ++c) {
         BlockFactors<L>& x = *candidates[c];
@@ -405,7 +282,7 @@ void BlockFit<L>::update_diffuse_specular(BlockFactors<L>* const* candidates, in
                 const double* o = &slice[std::size_t(c) * kSums * L];
                 swm += o[l], swmm += o[L + l], g_d += o[2 * L + l], g_s += o[3 * L + l], e0 += o[4 * L + l];
             }
-            const double sw = m_sw[l], a = rd0[c][l], b = rs0[c][l];
+            const double sw = m_sw[l], a = rho[c][0][l], b = rho[c][1][l];
             // The error at (rd, rs), from the residual sums at (a, b).
             const auto error_at = [&](double rd, double rs) {
                 const double dd = rd - a, ds = rs - b;

@@ -3,7 +3,8 @@
 // the angle work of a block of pairs runs as vector code (AVX2 where the CPU has it, else the
 // portable build's own vectors), the table lookups pair by pair from the cache-warm tables.
 // Results equal the scalar closure's to the bit on either instruction set (the same arithmetic,
-// no fused multiply-add), which tests/test_batch_closure.cpp checks.
+// no fused multiply-add; the choice is npf/core/simd_isa.h's), which tests/test_batch_closure.cpp
+// checks.
 #pragma once
 
 #include <cstddef>
@@ -29,15 +30,5 @@ struct BatchWavelengths {
     static BatchWavelengths shared(const float* nm, int count) { return {nm, count, false}; }
     static BatchWavelengths each_pair(const float* nm, int count) { return {nm, count, true}; }
 };
-
-// The instruction set of the batched angle kernels. Auto (the default) takes AVX2 where the CPU
-// has it; a choice is process-wide (benchmarks and tests compare the two).
-enum class BatchIsa { Auto, Portable, Avx2 };
-bool batch_isa_supported(BatchIsa isa);
-// Throws npf::Error for an instruction set this CPU lacks.
-void set_batch_isa(BatchIsa isa);
-// What Auto resolves to now: Portable or Avx2.
-BatchIsa batch_isa();
-const char* batch_isa_name(BatchIsa isa);
 
 }  // namespace npf
