@@ -47,14 +47,16 @@ public:
     // per pair (the RGL reader's VNDF inversion and interpolation weights; with more than 8
     // channels it interpolates every stored channel whatever the query) pays it once, not once
     // per block. `values[b]` gets block b's values, [samples][L], unused lanes repeating the
-    // block's last channel; a channel's values do not depend on which others are asked for.
+    // block's last channel (buffers already of that size are reused as they are); a channel's
+    // values do not depend on which others are asked for.
     static void evaluate(const SampleSet& samples, const Brdf& source, const std::vector<Channels>& blocks, int threads,
                          std::vector<std::vector<float>>& values);
     // Takes one block's values (from evaluate; `channels` of its lanes are real) as the data of
-    // the fit: weights, sums. Returns the number of non-finite values (given zero weight).
-    std::size_t load(std::vector<float>&& values, std::size_t channels);
-    // Both, for one block of `channels` (at most L).
-    std::size_t resample(const Brdf& source, const Channels& channels);
+    // the fit: weights, sums. `values` gets the previous block's buffer back (empty the first
+    // time), for evaluate to refill: fresh 0.56 GB buffers per block were zero-filled and
+    // page-faulted in, 5 % of a 195-wavelength conversion. Returns the number of non-finite
+    // values (given zero weight).
+    std::size_t load(std::vector<float>& values, std::size_t channels);
 
     // A cold start: F = G = 1, rho_s = 1, rho_d = 0 (D comes from the first update).
     BlockFactors<L> cold_start() const;

@@ -27,7 +27,6 @@ BlockFit<L>::BlockFit(const SampleSet& samples, const AwlsOptions& options, int 
       m_threads(std::clamp(threads, 1, kSlices)),
       m_passes(block_passes<L>()),
       m_trace(std::getenv("NPF_AWLS_TRACE") != nullptr) {
-    m_rho.resize(samples.size() * L);
     m_w.resize(samples.size() * L);
     m_cell.resize(samples.d_cells * 3 * L);
     m_g_acc.resize(std::size_t(kSlices));
@@ -69,8 +68,8 @@ void BlockFit<L>::evaluate(const SampleSet& samples, const Brdf& source, const s
 }
 
 template <int L>
-std::size_t BlockFit<L>::load(std::vector<float>&& values, std::size_t channels) {
-    m_rho = std::move(values);
+std::size_t BlockFit<L>::load(std::vector<float>& values, std::size_t channels) {
+    m_rho.swap(values);
     std::vector<std::size_t> invalid(std::size_t(m_threads), 0);
     npf::parallel_slices(m_s.size(), invalid.size(), [&](std::size_t t, std::size_t b, std::size_t e) {
         for (std::size_t s = b; s < e; ++s) {
@@ -108,13 +107,6 @@ std::size_t BlockFit<L>::load(std::vector<float>&& values, std::size_t channels)
     std::size_t count = 0;
     for (std::size_t c : invalid) count += c;
     return count;
-}
-
-template <int L>
-std::size_t BlockFit<L>::resample(const Brdf& source, const Channels& channels) {
-    std::vector<std::vector<float>> values;
-    evaluate(m_s, source, {channels}, m_threads, values);
-    return load(std::move(values[0]), source.query(channels).size());
 }
 
 template <int L>

@@ -36,6 +36,21 @@ inline void interpolate_g(const float* G, const PassSamples& s, std::uint32_t k,
 // The interpolated G over its owner cell's value (1 where the owner is 0).
 inline float owner_shape(float interpolated, float owner) { return owner > 0.f ? interpolated / owner : 1.f; }
 
+// What every pass reads of sample j: G at both directions (interpolate_g), 1 / (cos cos), and
+// the block's data and weights.
+template <int L>
+struct SampleAt {
+    float Gi[L], Go[L];
+    float c;
+    const float* __restrict rho;
+    const float* __restrict w;
+
+    SampleAt(const PassSamples& s, const float* G, std::uint32_t j)
+        : c(s.inv_cc[j]), rho(&s.rho[std::size_t(j) * L]), w(&s.w[std::size_t(j) * L]) {
+        interpolate_g<L>(G, s, j, Gi, Go);
+    }
+};
+
 template <int L>
 void d_sums(const PassSamples& s, const PassFactors& f, std::size_t k0, std::size_t k1, double* cells) {
     float rs[L];
@@ -47,17 +62,13 @@ void d_sums(const PassSamples& s, const PassFactors& f, std::size_t k0, std::siz
             float rsf[L];
             for (int l = 0; l < L; ++l) rsf[l] = rs[l] * F[l];
             for (std::uint32_t j = s.ring_begin[r]; j < s.ring_begin[r + 1]; ++j) {
-                float Gi[L], Go[L];
-                interpolate_g<L>(f.G, s, j, Gi, Go);
-                const float c = s.inv_cc[j];
-                const float* __restrict rho = &s.rho[std::size_t(j) * L];
-                const float* __restrict w = &s.w[std::size_t(j) * L];
+                const SampleAt<L> x(s, f.G, j);
                 for (int l = 0; l < L; ++l) {
-                    const float b = rsf[l] * Gi[l] * Go[l] * c;
-                    const float w_b = w[l] * b;
+                    const float b = rsf[l] * x.Gi[l] * x.Go[l] * x.c;
+                    const float w_b = x.w[l] * b;
                     wb[l] += w_b;
                     wbb[l] += w_b * b;
-                    wrb[l] += w_b * rho[l];
+                    wrb[l] += w_b * x.rho[l];
                 }
             }
         }
@@ -76,15 +87,11 @@ void f_sums(const PassSamples& s, const PassFactors& f, std::size_t k0, std::siz
         for (std::uint32_t r = s.cell_ring_begin[k]; r < s.cell_ring_begin[k + 1]; ++r) {
             float num[L] = {}, den[L] = {};
             for (std::uint32_t j = s.ring_begin[r]; j < s.ring_begin[r + 1]; ++j) {
-                float Gi[L], Go[L];
-                interpolate_g<L>(f.G, s, j, Gi, Go);
-                const float c = s.inv_cc[j];
-                const float* __restrict rho = &s.rho[std::size_t(j) * L];
-                const float* __restrict w = &s.w[std::size_t(j) * L];
+                const SampleAt<L> x(s, f.G, j);
                 for (int l = 0; l < L; ++l) {
-                    const float b = rsd[l] * Gi[l] * Go[l] * c;
-                    const float w_b = w[l] * b;
-                    num[l] += w_b * (rho[l] - rd[l]);
+                    const float b = rsd[l] * x.Gi[l] * x.Go[l] * x.c;
+                    const float w_b = x.w[l] * b;
+                    num[l] += w_b * (x.rho[l] - rd[l]);
                     den[l] += w_b * b;
                 }
             }
@@ -106,15 +113,11 @@ void g_sums(const PassSamples& s, const PassFactors& f, std::size_t k0, std::siz
             float rsdf[L];
             for (int l = 0; l < L; ++l) rsdf[l] = rsd[l] * F[l];
             for (std::uint32_t j = s.ring_begin[r]; j < s.ring_begin[r + 1]; ++j) {
-                float Gi[L], Go[L];
-                interpolate_g<L>(f.G, s, j, Gi, Go);
-                const float c = s.inv_cc[j];
-                const float* __restrict rho = &s.rho[std::size_t(j) * L];
-                const float* __restrict w = &s.w[std::size_t(j) * L];
+                const SampleAt<L> x(s, f.G, j);
                 float common[L], wa[L];
                 for (int l = 0; l < L; ++l) {
-                    common[l] = rsdf[l] * c;
-                    wa[l] = w[l] * (rho[l] - rd[l]);
+                    common[l] = rsdf[l] * x.c;
+                    wa[l] = x.w[l] * (x.rho[l] - rd[l]);
                 }
                 // Each direction updates the cell it lies in (its owner), the interpolated
                 // value's shape within the cell taken from the current table.
@@ -122,15 +125,15 @@ void g_sums(const PassSamples& s, const PassFactors& f, std::size_t k0, std::siz
                 const float* __restrict Go_owner = &f.G[std::size_t(s.go[j]) * L];
                 float* __restrict ai = &acc[std::size_t(s.gi[j]) * 2 * L];
                 for (int l = 0; l < L; ++l) {
-                    const float b = common[l] * Go[l] * owner_shape(Gi[l], Gi_owner[l]);
+                    const float b = common[l] * x.Go[l] * owner_shape(x.Gi[l], Gi_owner[l]);
                     ai[l] += wa[l] * b;
-                    ai[L + l] += w[l] * b * b;
+                    ai[L + l] += x.w[l] * b * b;
                 }
                 float* __restrict ao = &acc[std::size_t(s.go[j]) * 2 * L];
                 for (int l = 0; l < L; ++l) {
-                    const float b = common[l] * Gi[l] * owner_shape(Go[l], Go_owner[l]);
+                    const float b = common[l] * x.Gi[l] * owner_shape(x.Go[l], Go_owner[l]);
                     ao[l] += wa[l] * b;
-                    ao[L + l] += w[l] * b * b;
+                    ao[L + l] += x.w[l] * b * b;
                 }
             }
         }
@@ -153,15 +156,11 @@ void error_sums(const PassSamples& s, const PassFactors* candidates, int count, 
                 float df[L], wm[L] = {}, wmm[L] = {}, wr[L] = {}, wrm[L] = {}, wrr[L] = {};
                 for (int l = 0; l < L; ++l) df[l] = Dk[l] * F[l];
                 for (std::uint32_t j = s.ring_begin[r]; j < s.ring_begin[r + 1]; ++j) {
-                    float Gi[L], Go[L];
-                    interpolate_g<L>(x.G, s, j, Gi, Go);
-                    const float cc = s.inv_cc[j];
-                    const float* __restrict rho = &s.rho[std::size_t(j) * L];
-                    const float* __restrict w = &s.w[std::size_t(j) * L];
+                    const SampleAt<L> y(s, x.G, j);
                     for (int l = 0; l < L; ++l) {
-                        const float m = df[l] * Gi[l] * Go[l] * cc;
-                        const float res = rho[l] - rd[l] - rs[l] * m;
-                        const float w_m = w[l] * m, w_r = w[l] * res;
+                        const float m = df[l] * y.Gi[l] * y.Go[l] * y.c;
+                        const float res = y.rho[l] - rd[l] - rs[l] * m;
+                        const float w_m = y.w[l] * m, w_r = y.w[l] * res;
                         wm[l] += w_m;
                         wmm[l] += w_m * m;
                         wr[l] += w_r;
