@@ -527,7 +527,7 @@ template <int L>
 template <typename Progress>
 int BlockFit<L>::run(BlockFactors<L>& f, bool cold, std::array<double, L>& error, Progress progress) {
     constexpr std::size_t kWindow = 10, kShortWindow = 3;
-    constexpr double kErrorFloor = 1e-5;
+    constexpr double kErrorFloor = 1e-4;
     std::vector<std::array<double, L>> history;
     std::array<double, L> e{};
     BlockFactors<L> before, mix;
@@ -611,9 +611,12 @@ int BlockFit<L>::run(BlockFactors<L>& f, bool cold, std::array<double, L>& error
         // window cost the 12 warm blocks of 195 wavelengths a third of all sweeps, while a
         // stall at the tolerance's rate does not pass the stricter test.
         // An error below kErrorFloor of the data's weighted energy (a relative RMS error below
-        // 0.3 %: analytic materials the model represents almost exactly) is judged against that
+        // 1 %: analytic materials the model represents almost exactly) is judged against that
         // floor instead: its relative gains can stay above the tolerance for hundreds of sweeps
-        // while the RMS error moves in the fifth decimal.
+        // while the RMS error moves in the fifth decimal. (1e-5, a 0.3 % RMS error, until issue
+        // 19: red_plastic.yaml, fitted to 4e-6 of its energy, still drifted by 3e-9 per 10
+        // sweeps and ran into the cap of 200; with 1e-4 it stops at 119, its render unchanged.
+        // The five real materials and the brushed copper stay above 1e-4: their fits did not move.)
         history.push_back(e);
         const auto gained_less = [&](std::size_t window, double rate) {
             if (history.size() <= window) return false;
