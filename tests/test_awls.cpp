@@ -172,6 +172,31 @@ TEST(Awls, SpectralCopperStopsByItsTolerance) {
     EXPECT_LT(worst, 1e-3);
 }
 
+// Issue 19: a material the model represents almost exactly (red_plastic.yaml's isotropic GGX
+// lobe, fitted to a few millionths of its weighted energy) drifted by gains far below anything a
+// render shows and ran into the cap; below 1e-4 of the energy the stopping test now judges the
+// gains against that floor. The first block of its production conversion (16 of its 41
+// wavelengths, the paper's grid); with the floor at 1e-5 it ran to the cap. Slow (about 15 s).
+TEST(SlowAwls, NearlyExactFitStopsByItsTolerance) {
+    const std::unique_ptr<npf::Brdf> source = npf::open_material(std::string(NPF_SOURCE_DIR) + "/configs/materials/red_plastic.yaml");
+    const std::vector<float>& all = source->info().channels.wavelengths();
+    npf::AwlsOptions o;
+    o.grid = {90, 1, 90, 180};  // the production preset's
+    o.g_theta = 90;
+    o.g_phi = 1;
+    o.channels = npf::Channels::spectral(std::vector<float>(all.begin(), all.begin() + 16));
+    o.max_iterations = 200;
+    o.tolerance = 1e-5;
+    npf::AwlsReport r;
+    npf::fit_npf(*source, o, &r);
+    double worst = 0.0;
+    for (double e : r.relative_error) worst = std::max(worst, e);
+    std::printf("[ awls     ] red plastic, first 16 wavelengths: %d sweeps (cap %d), relative error at most %.2e\n",
+                r.iterations[0], o.max_iterations, worst);
+    EXPECT_LT(worst, 3e-3);  // the model holds: RMS below 0.3 %
+    EXPECT_LT(r.iterations[0], o.max_iterations);
+}
+
 // Issue 16: on measured files the alternation drifts along the near-symmetry G -> G s,
 // F -> F / s^2 at a constant small gain per sweep (ilm: 1.1e-4 of the error per sweep, ten times
 // the tolerance, for all 200 sweeps) and so always stopped at its cap. The pin holds G near its
