@@ -1,5 +1,5 @@
-// The passes of BlockFit (included by block_fit.h). Each pass streams the samples once; inner
-// loops run over the L lanes with no dependence between lanes, which the compiler vectorises.
+// BlockFit's updates (included by block_fit.h): each streams the samples once through one of
+// the passes of block_passes.h (built per instruction set), then solves its cells from the sums.
 #pragma once
 
 #include <npf/core/parallel.h>
