@@ -19,9 +19,10 @@ using Clock = std::chrono::steady_clock;
 
 // The most memory that source values evaluated ahead of their blocks may take: on the production
 // anisotropic grid (8.8 M samples, 0.56 GB per block of 16) three blocks, so that 195 wavelengths
-// take 5 passes over the source instead of 13, and the brushed copper fit peaks at about 3.3 GiB
-// (the samples 0.5 GB, the block's data and weights 1.1 GB, these 1.7 GB). A pass costs little
-// more than its channels: the RGL reader interpolates only the stored channels a pass reads.
+// take 5 passes over the source instead of 13, and the brushed copper conversion peaks at
+// 3.49 GiB (the samples 0.5 GB, the block's data and weights 1.1 GB, these 1.7 GB, the source
+// file). A pass costs little more than its channels: the RGL reader interpolates only the
+// stored channels a pass reads.
 constexpr std::size_t kResampleBytes = std::size_t(7) << 28;  // 1.75 GiB
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
