@@ -57,24 +57,37 @@ inline DetailPosition detail_position(const DetailGrid& g, double u_h, double th
     return at;
 }
 
+// The position generic over the number type (table::generic), for the batched closure.
+template <class T>
+NPF_GENERIC_INLINE void detail_position_of(const DetailGrid& g, T u_h, T theta_d, T phi_d, table::LerpOf<T>& h,
+                                           table::LerpOf<T>& d, table::LerpOf<T>& p) {
+    h = equation::d_row_of(u_h, g.theta_h);
+    d = equation::f_row_of(theta_d, g.theta_d);
+    p = equation::column_of(phi_d, g.phi_d);
+}
+
+// The weights of the eight corners, corner k = 4 a + 2 b + c taking the upper cell along h
+// where a is 1, along d where b is 1, along p where c is 1.
+template <class T>
+NPF_GENERIC_INLINE void trilinear_weights(T h_t, T d_t, T p_t, T w[8]) {
+    for (int a = 0; a < 2; ++a) {
+        const T wh = a ? h_t : T(1.0) - h_t;
+        for (int b = 0; b < 2; ++b) {
+            const T wd = wh * (b ? d_t : T(1.0) - d_t);
+            for (int c = 0; c < 2; ++c) w[4 * a + 2 * b + c] = wd * (c ? p_t : T(1.0) - p_t);
+        }
+    }
+}
+
 inline Trilinear trilinear(const DetailGrid& g, const DetailPosition& at) {
     Trilinear t;
     const table::Lerp& h = at.h;
     const table::Lerp& d = at.d;
     const table::Lerp& p = at.p;
-    int k = 0;
-    for (int a = 0; a < 2; ++a) {
-        const int hi = a ? h.i1 : h.i0;
-        const double wh = a ? h.t : 1.0 - h.t;
-        for (int b = 0; b < 2; ++b) {
-            const int di = b ? d.i1 : d.i0;
-            const double wd = wh * (b ? d.t : 1.0 - d.t);
-            for (int c = 0; c < 2; ++c, ++k) {
-                t.index[k] = std::uint32_t(g.index(hi, di, c ? p.i1 : p.i0));
-                t.weight[k] = wd * (c ? p.t : 1.0 - p.t);
-            }
-        }
+    for (int k = 0; k < 8; ++k) {
+        t.index[k] = std::uint32_t(g.index(k & 4 ? h.i1 : h.i0, k & 2 ? d.i1 : d.i0, k & 1 ? p.i1 : p.i0));
     }
+    trilinear_weights<double>(h.t, d.t, p.t, t.weight);
     return t;
 }
 

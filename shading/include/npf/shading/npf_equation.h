@@ -42,14 +42,26 @@ inline double theta_centre(int k, int n) { return kHalfPi * (k + 0.5) / n; }    
 inline double phi_centre(int k, int n) { return kTwoPi * (k + 0.5) / n; }            // columns
 
 // ---- Where an angle falls on each table (cells, with the axis' boundary rule) ----------------
+// Generic over the number type (table::generic) for the batched closure; the scalar forms below.
 // A polar angle in cells of an n-row table uniform in theta (F and G rows).
-inline double theta_cells(double theta, int n) { return theta * kInvHalfPi * n; }
-inline table::Lerp d_row(double u_h, int n) { return table::clamped(u_h * n, n); }
-inline table::Lerp f_row(double theta_d, int n) { return table::clamped(theta_cells(theta_d, n), n); }
-inline table::Lerp g_row(double theta, int n) { return table::extrapolated(theta_cells(theta, n), n); }
+template <class T>
+NPF_GENERIC_INLINE T theta_cells_of(T theta, int n) { return theta * T(kInvHalfPi) * T(double(n)); }
+template <class T>
+NPF_GENERIC_INLINE table::LerpOf<T> d_row_of(T u_h, int n) { return table::generic::clamped(u_h * T(double(n)), n); }
+template <class T>
+NPF_GENERIC_INLINE table::LerpOf<T> f_row_of(T theta_d, int n) { return table::generic::clamped(theta_cells_of(theta_d, n), n); }
+template <class T>
+NPF_GENERIC_INLINE table::LerpOf<T> g_row_of(T theta, int n) { return table::generic::extrapolated(theta_cells_of(theta, n), n); }
+template <class T>
+NPF_GENERIC_INLINE table::LerpOf<T> column_of(T phi, int n) { return table::generic::periodic(phi * T(kInvTwoPi) * T(double(n)), n); }
+
+inline double theta_cells(double theta, int n) { return theta_cells_of<double>(theta, n); }
+inline table::Lerp d_row(double u_h, int n) { return table::to_lerp(d_row_of<double>(u_h, n)); }
+inline table::Lerp f_row(double theta_d, int n) { return table::to_lerp(f_row_of<double>(theta_d, n)); }
+inline table::Lerp g_row(double theta, int n) { return table::to_lerp(g_row_of<double>(theta, n)); }
 // With one column (isotropic) every position gives that column: callers may skip the azimuth
 // and use Lerp{} (the same value).
-inline table::Lerp column(double phi, int n) { return table::periodic(phi * kInvTwoPi * n, n); }
+inline table::Lerp column(double phi, int n) { return table::to_lerp(column_of<double>(phi, n)); }
 // The G row a direction of polar angle theta belongs to (the cell holding it, not its centre).
 inline int g_owner_row(double theta, int n) { return std::min(int(theta_cells(theta, n)), n - 1); }
 
@@ -66,16 +78,25 @@ inline double g_closing_scale(double last, double prev) { return last > 0.0 ? st
 // ---- Eq. 1 ------------------------------------------------------------------------------------
 // The factors as interpolated (D, G possibly recombined from a spectral basis, so clamped at 0
 // here); inv_cos_product = 1 / (cos theta_i cos theta_o).
-inline double value(double rho_d, double rho_s, double d, double f, double g_i, double g_o, double inv_cos_product) {
-    d = d > 0.0 ? d : 0.0;
-    g_i = g_i > 0.0 ? g_i : 0.0;
-    g_o = g_o > 0.0 ? g_o : 0.0;
+// Generic over the number type (table::generic), for the batched closure.
+template <class T>
+NPF_GENERIC_INLINE T value_of(T rho_d, T rho_s, T d, T f, T g_i, T g_o, T inv_cos_product) {
+    using table::generic::select;
+    d = select(d > T(0.0), d, T(0.0));
+    g_i = select(g_i > T(0.0), g_i, T(0.0));
+    g_o = select(g_o > T(0.0), g_o, T(0.0));
     return rho_d + rho_s * d * f * g_i * g_o * inv_cos_product;
 }
-// The detail layer's residual added to the model's value; the sum is clamped at 0.
-inline double with_detail(double base, double residual) {
-    const double v = base + residual;
-    return v > 0.0 ? v : 0.0;
+inline double value(double rho_d, double rho_s, double d, double f, double g_i, double g_o, double inv_cos_product) {
+    return value_of<double>(rho_d, rho_s, d, f, g_i, g_o, inv_cos_product);
 }
+// The detail layer's residual added to the model's value; the sum is clamped at 0.
+template <class T>
+NPF_GENERIC_INLINE T with_detail_of(T base, T residual) {
+    using table::generic::select;
+    const T v = base + residual;
+    return select(v > T(0.0), v, T(0.0));
+}
+inline double with_detail(double base, double residual) { return with_detail_of<double>(base, residual); }
 
 }  // namespace npf::equation

@@ -17,6 +17,95 @@ struct Lerp {
     double t = 0.0;  // weight of i1
 };
 
+// The three axis rules below are written once, generic over the number type (as the angle
+// functions further down): `double` for the scalar lookups and the fitter, a vector of doubles for
+// the batched closure (npf_batch.h), so that both find the same cells and weights to the bit. The
+// generic forms keep the cell indices as whole numbers of the same type; the scalar forms return
+// them as int. Inputs are finite (a caller with NaN gets meaningless cells, as before).
+template <class T>
+struct LerpOf {
+    T i0, i1, t;
+};
+
+namespace generic {
+
+// Inlined always: the batched closure calls these on vectors, and a call per function (with
+// the vector arguments passed through memory) cost a third of its angle work.
+#if defined(__GNUC__) || defined(__clang__)
+#define NPF_GENERIC_INLINE [[gnu::always_inline]] inline
+#else
+#define NPF_GENERIC_INLINE inline
+#endif
+
+inline double select(bool c, double a, double b) { return c ? a : b; }
+inline double abs(double x) { return std::fabs(x); }
+inline double sqrt(double x) { return std::sqrt(x); }
+inline double trunc(double x) { return std::trunc(x); }
+inline double floor(double x) { return std::floor(x); }
+
+// Clamped at the outer centres (theta axes of D and F): std::clamp and std::min, written as
+// selects.
+template <class T>
+inline LerpOf<T> clamped(T x, int n) {
+    const T last = T(double(n - 1)), v = x - T(0.5);
+    const T c = select(v < T(0.0), T(0.0), select(last < v, last, v));
+    LerpOf<T> l;
+    l.i0 = trunc(c);  // c <= last: no min needed
+    l.i1 = select(last < l.i0 + T(1.0), last, l.i0 + T(1.0));
+    l.t = c - l.i0;
+    return l;
+}
+
+// Periodic (phi axes). Azimuths arrive in [0, 2 pi), so one wrap of the lower half cell covers
+// them; anything else takes the general (floor) form. Rounding can put the wrapped value at n
+// itself: cell n - 1 at t = 1 then.
+template <class T>
+inline LerpOf<T> periodic(T x, int n) {
+    const T count = T(double(n)), last = T(double(n - 1));
+    T c = x - T(0.5);
+    c = select(c < T(0.0), c + count, c);
+    const T wrapped = c - floor(c / count) * count;
+    c = select(c < T(0.0), wrapped, select(c < count, c, wrapped));
+    LerpOf<T> l;
+    const T whole = trunc(c);
+    l.i0 = select(last < whole, last, whole);
+    l.i1 = select(l.i0 + T(1.0) == count, T(0.0), l.i0 + T(1.0));
+    l.t = c - l.i0;
+    return l;
+}
+
+// G's theta axis: flat below the first centre, and beyond the last one continued along the
+// line through the last two rows (t > 1), so that G can fall to 0 at grazing angles, as the
+// fitter's interpolation does (fit/sample_set.h). Callers clamp the result at 0.
+template <class T>
+inline LerpOf<T> extrapolated(T x, int n) {
+    if (n == 1) return {T(0.0), T(0.0), T(0.0)};
+    const T before_last = T(double(n - 2)), v = x - T(0.5);
+    const T c = select(T(0.0) < v, v, T(0.0));
+    LerpOf<T> l;
+    const T whole = trunc(c);
+    l.i0 = select(before_last < whole, before_last, whole);
+    l.i1 = l.i0 + T(1.0);
+    l.t = c - l.i0;
+    return l;
+}
+
+// The weights of bilinear()'s four corners.
+template <class T>
+inline void bilinear_weights(T row_t, T col_t, T w[4]) {
+    w[0] = (T(1.0) - row_t) * (T(1.0) - col_t);
+    w[1] = (T(1.0) - row_t) * col_t;
+    w[2] = row_t * (T(1.0) - col_t);
+    w[3] = row_t * col_t;
+}
+
+}  // namespace generic
+
+inline Lerp to_lerp(const LerpOf<double>& l) { return {int(l.i0), int(l.i1), l.t}; }
+inline Lerp clamped(double x, int n) { return to_lerp(generic::clamped<double>(x, n)); }
+inline Lerp periodic(double x, int n) { return to_lerp(generic::periodic<double>(x, n)); }
+inline Lerp extrapolated(double x, int n) { return to_lerp(generic::extrapolated<double>(x, n)); }
+
 // The four corners of a 2D table (row-major, `cols` per row) around a position and their
 // weights, from a Lerp along each axis.
 struct Bilinear {
@@ -31,47 +120,8 @@ inline Bilinear bilinear(const Lerp& row, const Lerp& col, int cols) {
     b.index[1] = r0 + std::size_t(col.i1);
     b.index[2] = r1 + std::size_t(col.i0);
     b.index[3] = r1 + std::size_t(col.i1);
-    b.weight[0] = (1 - row.t) * (1 - col.t);
-    b.weight[1] = (1 - row.t) * col.t;
-    b.weight[2] = row.t * (1 - col.t);
-    b.weight[3] = row.t * col.t;
+    generic::bilinear_weights<double>(row.t, col.t, b.weight);
     return b;
-}
-
-// Clamped at the outer centres (theta axes of D and F).
-inline Lerp clamped(double x, int n) {
-    Lerp l;
-    const double c = std::clamp(x - 0.5, 0.0, double(n - 1));
-    l.i0 = std::min(int(c), n - 1);
-    l.i1 = std::min(l.i0 + 1, n - 1);
-    l.t = c - l.i0;
-    return l;
-}
-
-// Periodic (phi axes). Azimuths arrive in [0, 2 pi), so one wrap of the lower half cell covers
-// them; anything else takes the general (floor) path.
-inline Lerp periodic(double x, int n) {
-    Lerp l;
-    double c = x - 0.5;
-    if (c < 0.0) c += n;
-    if (!(c >= 0.0 && c < n)) c -= std::floor(c / n) * n;
-    l.i0 = std::min(int(c), n - 1);
-    l.i1 = l.i0 + 1 == n ? 0 : l.i0 + 1;
-    l.t = c - l.i0;
-    return l;
-}
-
-// G's theta axis: flat below the first centre, and beyond the last one continued along the
-// line through the last two rows (t > 1), so that G can fall to 0 at grazing angles, as the
-// fitter's interpolation does (fit/sample_set.h). Callers clamp the result at 0.
-inline Lerp extrapolated(double x, int n) {
-    Lerp l;
-    if (n == 1) return l;
-    const double c = std::max(0.0, x - 0.5);
-    l.i0 = std::min(int(c), n - 2);
-    l.i1 = l.i0 + 1;
-    l.t = c - l.i0;
-    return l;
 }
 
 // The angle functions of the shading hot path. Each evaluation computes four polar angles and,
@@ -86,18 +136,6 @@ inline Lerp extrapolated(double x, int n) {
 // doubles for the batched one (npf_batch.h), with the same operations in the same order, so both
 // give the same bits. Selects stand for branches (select(c, a, b) = c ? a : b, both computed).
 namespace generic {
-
-// Inlined always: the batched closure calls these on vectors, and a call per function (with
-// the vector arguments passed through memory) cost a third of its angle work.
-#if defined(__GNUC__) || defined(__clang__)
-#define NPF_GENERIC_INLINE [[gnu::always_inline]] inline
-#else
-#define NPF_GENERIC_INLINE inline
-#endif
-
-inline double select(bool c, double a, double b) { return c ? a : b; }
-inline double abs(double x) { return std::fabs(x); }
-inline double sqrt(double x) { return std::sqrt(x); }
 
 // atan(q) for |q| <= tan(pi/8): q + q^3 P(q^2), P a degree-6 least-squares fit on Chebyshev
 // nodes; error below 2e-13 rad, far below any table's cell (the finest is ~0.25 degree).
