@@ -33,18 +33,6 @@ std::string Channels::name(std::size_t c) const {
     return b;
 }
 
-namespace {
-
-// Channels i0 = i and i1 = i + 1 around `lambda` and the weight of i1, once i is known.
-void blend_at(const float* grid, std::size_t i, float lambda, std::uint32_t& i0, std::uint32_t& i1, float& t) {
-    i0 = std::uint32_t(i);
-    i1 = i0 + 1;
-    const float span = grid[i1] - grid[i0];
-    t = span > 0.f ? std::clamp((lambda - grid[i0]) / span, 0.f, 1.f) : 0.f;
-}
-
-}  // namespace
-
 void locate_wavelength(const float* grid, std::size_t n, float lambda, std::uint32_t& i0, std::uint32_t& i1,
                        float& t) {
     i0 = i1 = 0;
@@ -52,7 +40,7 @@ void locate_wavelength(const float* grid, std::size_t n, float lambda, std::uint
     if (n < 2) return;
     const float* it = std::upper_bound(grid, grid + n, lambda);
     std::size_t i = it == grid ? 0 : std::size_t(it - grid) - 1;
-    blend_at(grid, std::min(i, n - 2), lambda, i0, i1, t);
+    blend_wavelengths_at(grid, std::min(i, n - 2), lambda, i0, i1, t);
 }
 
 WavelengthLocator::WavelengthLocator(std::vector<float> ascending_grid) : m_grid(std::move(ascending_grid)) {
@@ -68,21 +56,6 @@ WavelengthLocator::WavelengthLocator(std::vector<float> ascending_grid) : m_grid
         const auto it = std::upper_bound(m_grid.begin(), m_grid.end(), edge);
         m_start[b] = std::uint32_t(it == m_grid.begin() ? 0 : std::size_t(it - m_grid.begin()) - 1);
     }
-}
-
-void WavelengthLocator::locate(float lambda, std::uint32_t& i0, std::uint32_t& i1, float& t) const {
-    const std::size_t n = m_grid.size();
-    // Outside the grid, NaN, or a grid without buckets: the search gives the same answer.
-    if (m_start.empty() || !(lambda >= m_lo && lambda <= m_hi)) {
-        locate_wavelength(m_grid.data(), n, lambda, i0, i1, t);
-        return;
-    }
-    std::size_t i = m_start[std::min(std::size_t((lambda - m_lo) * m_buckets_per_nm), m_start.size() - 1)];
-    // The last index at or below lambda (what upper_bound - 1 finds), whatever rounding did to
-    // the bucket's edge.
-    while (i + 1 < n && m_grid[i + 1] <= lambda) ++i;
-    while (i > 0 && m_grid[i] > lambda) --i;
-    blend_at(m_grid.data(), std::min(i, n - 2), lambda, i0, i1, t);
 }
 
 ChannelQuery make_channel_query(const Channels& stored, const Channels& requested,

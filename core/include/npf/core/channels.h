@@ -6,6 +6,7 @@
 // only blends two stored channels per requested one and never searches.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -57,6 +58,16 @@ struct ChannelQuery {
 void locate_wavelength(const float* grid, std::size_t n, float lambda, std::uint32_t& i0, std::uint32_t& i1,
                        float& t);
 
+// Channels i0 = i and i1 = i + 1 around `lambda` and the weight of i1, once i is known: the last
+// step of locate_wavelength and WavelengthLocator::locate.
+inline void blend_wavelengths_at(const float* grid, std::size_t i, float lambda, std::uint32_t& i0, std::uint32_t& i1,
+                                 float& t) {
+    i0 = std::uint32_t(i);
+    i1 = i0 + 1;
+    const float span = grid[i1] - grid[i0];
+    t = span > 0.f ? std::clamp((lambda - grid[i0]) / span, 0.f, 1.f) : 0.f;
+}
+
 // locate_wavelength in constant time on one fixed grid, with the same results to the bit: a
 // renderer locates every hero wavelength of every evaluation, and a binary search over a
 // 195-wavelength grid (eight unpredictable branches) cost more than the table lookups.
@@ -65,7 +76,21 @@ class WavelengthLocator {
 public:
     WavelengthLocator() = default;
     explicit WavelengthLocator(std::vector<float> ascending_grid);
-    void locate(float lambda, std::uint32_t& i0, std::uint32_t& i1, float& t) const;
+    // Inline: the batched closure locates four wavelengths per pair.
+    void locate(float lambda, std::uint32_t& i0, std::uint32_t& i1, float& t) const {
+        const std::size_t n = m_grid.size();
+        // Outside the grid, NaN, or a grid without buckets: the search gives the same answer.
+        if (m_start.empty() || !(lambda >= m_lo && lambda <= m_hi)) {
+            locate_wavelength(m_grid.data(), n, lambda, i0, i1, t);
+            return;
+        }
+        std::size_t i = m_start[std::min(std::size_t((lambda - m_lo) * m_buckets_per_nm), m_start.size() - 1)];
+        // The last index at or below lambda (what upper_bound - 1 finds), whatever rounding did to
+        // the bucket's edge.
+        while (i + 1 < n && m_grid[i + 1] <= lambda) ++i;
+        while (i > 0 && m_grid[i] > lambda) --i;
+        blend_wavelengths_at(m_grid.data(), std::min(i, n - 2), lambda, i0, i1, t);
+    }
 
 private:
     std::vector<float> m_grid;
