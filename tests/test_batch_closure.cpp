@@ -123,21 +123,41 @@ void expect_sample_batch_equals_scalar(const NpfClosure& c, const Pairs& p, Batc
     EXPECT_GT(drawn, n / 2);
 }
 
+// A detail layer of random residuals over `grid` (rank min(channels, cells)), large enough that
+// model + residual falls below 0 in places: the vector path's trilinear lookup and its clamp.
+npf::NpfModel with_random_detail(npf::NpfModel m, const npf::DetailGrid& grid, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> residual(-0.4f, 0.3f);
+    const std::size_t C = m.channel_count(), cells = grid.cells();
+    std::vector<float> tables(C * cells);
+    for (float& v : tables) v = residual(rng);
+    m.detail_grid = grid;
+    m.detail = npf::compress_tables(tables, C, cells, 1.0, 0);
+    return m;
+}
+
 TEST(BatchClosure, EqualsTheScalarClosureOnEveryPathAndInstructionSet) {
     const std::string folder = npf::testing::temporary_folder("npf-batch");
     struct Case {
         const char* name;
-        npf::NpfFactors factors;
+        npf::NpfModel model;
     };
+    const npf::CompressionOptions full;
+    npf::CompressionOptions rank_two;
+    rank_two.d_rank = rank_two.g_rank = 2;
     const Case cases[] = {
-        {"rgb_isotropic", npf::testing::make_test_factors({false, 3, false, 4})},
-        {"spectral_anisotropic", npf::testing::make_test_factors({true, 20, true, 5})},
+        {"rgb_isotropic", npf::compress_factors(npf::testing::make_test_factors({false, 3, false, 4}), full)},
+        {"spectral_anisotropic", npf::compress_factors(npf::testing::make_test_factors({true, 20, true, 5}), full)},
+        {"rgb_isotropic_detail",
+         with_random_detail(npf::compress_factors(npf::testing::make_test_factors({false, 3, false, 6}), full), {6, 5, 7}, 1)},
+        {"spectral_anisotropic_detail_rank_two",
+         with_random_detail(npf::compress_factors(npf::testing::make_test_factors({true, 12, true, 7}), rank_two), {5, 4, 9}, 2)},
     };
     const Pairs pairs = make_pairs(1000, 3);  // not a multiple of the block
     for (const Case& k : cases) {
         SCOPED_TRACE(k.name);
         const std::string path = folder + "/" + k.name + ".exr";
-        npf::write_npf_texture(npf::compress_factors(k.factors, npf::CompressionOptions()), path);
+        npf::write_npf_texture(k.model, path);
         const NpfClosure memory(path, NpfClosure::Path::Memory), texture(path, NpfClosure::Path::Texture);
         std::vector<float> shared = {450.f, 517.5f, 600.f, 700.f}, per_pair;
         std::mt19937 rng(5);

@@ -1,15 +1,18 @@
 // The batched closure (npf_batch.h): blocks of kBlock pairs; the angles of a block by a vector
-// kernel (batch_angles.h), then the table lookups pair by pair with the scalar closure's code.
+// kernel (batch_angles.h), then the table lookups and values four pairs at a time by vector code
+// (batch_values.h, AVX2), or pair by pair with the scalar closure's code.
 #include <npf/shading/npf_batch.h>
 #include <npf/shading/npf_closure.h>
 
 #include "batch_angles.h"
+#include "batch_values.h"
 #include "finite_float.h"
 
 #include <npf/core/simd_isa.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace npf {
 
@@ -58,8 +61,11 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
         return;
     }
     const bool avx2 = simd_isa() == SimdIsa::Avx2;
+    const bool vector_values = avx2 && batch_detail::vector_values_apply(m_model);
+    const batch_detail::ValueRequestOfBlock block_request{stored, wavelengths, &m_wavelengths, count};
     const AngleNeeds needs = m_model.angle_needs();
     batch_detail::BlockAngles angles;
+    std::uint8_t valid[kBlock];
     NpfModel::Lookup at;
     for (std::size_t b = 0; b < n; b += kBlock) {
         const std::size_t m = std::min(kBlock, n - b);
@@ -69,15 +75,20 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
         } else {
             batch_detail::angles_portable(m, p.view, p.light, needs, angles);
         }
+        for (std::size_t j = 0; j < m; ++j) valid[j] = in_domain(view, light, b + j);
+        // The values of whole groups of four pairs by vector code, the rest pair by pair.
+        const std::size_t done = vector_values ? batch_detail::values_avx2(m_model, angles, m, valid, block_request, b, values, n) : 0;
         for (std::size_t j = 0; j < m; ++j) {
             const std::size_t i = b + j;
-            if (!in_domain(view, light, i)) {
+            if (!valid[j]) {
                 zero(i);
                 continue;
             }
-            m_model.position(angles.at(j), at);
-            write_values(at, at.cos_o, request_of(i), values + i, n);
-            if (pdf) pdf[i] = pdf_at(at.theta_h, at.u_h, at.phi_h, at.cos_d, at.cos_o);
+            if (j >= done) {
+                m_model.position(angles.at(j), at);
+                write_values(at, at.cos_o, request_of(i), values + i, n);
+            }
+            if (pdf) pdf[i] = pdf_at(angles.theta_h[j], angles.u_h[j], angles.phi_h[j], angles.cos_d[j], angles.cos_o[j]);
         }
     }
 }

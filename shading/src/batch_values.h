@@ -1,0 +1,45 @@
+// The table half of the batched closure's eval (npf_batch.h) as vector code: for four pairs at
+// once, the cells and weights on every table (the generic axis rules of npf_equation.h), the
+// basis values gathered and interpolated, and each requested value recombined per channel,
+// clamped and weighted by cos(theta_light) as NpfClosure::write_values does, in the same
+// operations and order as NpfModel::position and NpfModel::value: the scalar closure's results to
+// the bit. AVX2 only (batch_values_avx2.cpp); the portable build shades pair by pair with the
+// scalar code, which is the same arithmetic.
+#pragma once
+
+#include "batch_angles.h"
+
+#include <npf/core/channels.h>
+#include <npf/shading/npf_batch.h>
+#include <npf/shading/npf_model.h>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace npf::batch_detail {
+
+// The largest rank (D, G, detail) the vector path keeps per group of pairs; larger ones shade
+// pair by pair (the stored models' ranks are far below: 3 for RGB, at most 16 or so spectrally).
+inline constexpr int kVectorRank = 64;
+
+inline bool vector_values_apply(const NpfModel& m) {
+    return m.D.rank <= kVectorRank && m.G.rank <= kVectorRank && m.detail.rank <= kVectorRank;
+}
+
+// Which values a block writes: every stored channel (`stored`, value k = channel k), or the
+// wavelengths of `wavelengths` located on the model's grid by `locator`.
+struct ValueRequestOfBlock {
+    bool stored = true;
+    BatchWavelengths wavelengths;
+    const WavelengthLocator* locator = nullptr;
+    std::size_t count = 0;  // values per pair
+};
+
+// Pairs [0, groups * 4) of the block whose angles are `angles` and whose first pair is pair
+// `first` of the batch; valid[j] is 0 for pairs outside the domain (their values are 0). Value k
+// of pair i goes to values[k * n + i]. Returns the number of pairs done (a multiple of 4); the
+// caller shades the rest. Only where vector_values_apply(m) and the CPU has AVX2.
+std::size_t values_avx2(const NpfModel& m, const BlockAngles& angles, std::size_t count, const std::uint8_t* valid,
+                        const ValueRequestOfBlock& request, std::size_t first, float* values, std::size_t n);
+
+}  // namespace npf::batch_detail
