@@ -3,6 +3,7 @@
 #include "luminance.h"
 
 #include <npf/core/error.h>
+#include <npf/core/sin_cos.h>
 #include <npf/shading/npf_equation.h>
 #include <npf/shading/npf_model.h>
 #include <npf/shading/table_interpolation.h>
@@ -60,7 +61,9 @@ Vec3 HalfVectorSampler::sample(float u1, float u2) const {
     const double s = s0 + (s1 - s0) * double(cell.remainder);
     const double cos_theta = 1.0 - 2.0 * s, sin_theta = 2.0 * std::sqrt(std::max(0.0, s * (1.0 - s)));
     const double phi = kTwoPiD * (double(j) + double(u2)) / m_phi;
-    return Vec3(float(sin_theta * std::cos(phi)), float(sin_theta * std::sin(phi)), float(cos_theta));
+    double sin_phi, cos_phi;
+    sin_cos(phi, sin_phi, cos_phi);
+    return Vec3(float(sin_theta * cos_phi), float(sin_theta * sin_phi), float(cos_theta));
 }
 
 double HalfVectorSampler::pdf(const Vec3& h) const {
