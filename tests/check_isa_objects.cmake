@@ -1,0 +1,31 @@
+# The files built for one instruction set (*_avx2.cpp) must define no weak symbol (an inline
+# function or template instance emitted out of line) outside a namespace named for that set: the
+# linker keeps one copy of each weak symbol for the whole program, and if it kept the AVX2 copy,
+# a caller in portable code would crash on a CPU without AVX2.
+#   cmake -DNM=nm -DOBJECTS="a.o|b.o|..." -P check_isa_objects.cmake
+string(REPLACE "|" ";" objects "${OBJECTS}")
+set(checked 0)
+set(bad "")
+foreach(object IN LISTS objects)
+  if(NOT object MATCHES "_avx2\\.cpp\\.o(bj)?$")
+    continue()
+  endif()
+  math(EXPR checked "${checked} + 1")
+  execute_process(COMMAND ${NM} -C --defined-only ${object} OUTPUT_VARIABLE symbols RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${object}: nm failed (${rc})")
+  endif()
+  string(REPLACE "\n" ";" lines "${symbols}")
+  foreach(line IN LISTS lines)
+    if(line MATCHES "^[0-9a-fA-F]* [WVu] " AND NOT line MATCHES "::avx2::")
+      string(APPEND bad "\n  ${object}: ${line}")
+    endif()
+  endforeach()
+endforeach()
+if(checked EQUAL 0)
+  message(FATAL_ERROR "no *_avx2.cpp object among the ones given: nothing was checked")
+endif()
+if(bad)
+  message(FATAL_ERROR "weak symbols outside an ISA namespace in AVX2 objects:${bad}")
+endif()
+message(STATUS "${checked} AVX2 objects: no shared weak symbols")
