@@ -30,6 +30,8 @@ inline Double4 operator-(Double4 a) { return Double4(_mm256_xor_pd(a.v, _mm256_s
 inline Mask4 operator>(Double4 a, Double4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_GT_OQ)}; }
 inline Mask4 operator<(Double4 a, Double4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_LT_OQ)}; }
 inline Mask4 operator==(Double4 a, Double4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_EQ_OQ)}; }
+inline Mask4 operator||(Mask4 a, Mask4 b) { return {_mm256_or_pd(a.m, b.m)}; }
+inline bool any(Mask4 a) { return _mm256_movemask_pd(a.m) != 0; }
 inline Mask4 operator!(Mask4 a) { return {_mm256_xor_pd(a.m, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)))}; }
 
 inline Double4 select(Mask4 c, Double4 a, Double4 b) { return Double4(_mm256_blendv_pd(b.v, a.v, c.m)); }
