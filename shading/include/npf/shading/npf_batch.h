@@ -1,7 +1,7 @@
 // Batched shading: eval and pdf of an NpfClosure over many direction pairs at once, as wavefront
 // and SIMD renderers and numpy callers hand them over. Directions come as structure-of-arrays;
-// the angle work of a block of pairs runs as vector code (AVX2 where the CPU has it, else the
-// portable build's own vectors), the table lookups pair by pair from the cache-warm tables.
+// the angle work of a block of pairs and, on the memory path, its table lookups and values run as
+// vector code four pairs at a time (AVX2 where the CPU has it; else the scalar code pair by pair).
 // Results equal the scalar closure's to the bit on either instruction set (the same arithmetic,
 // no fused multiply-add; the choice is npf/core/simd_isa.h's), which tests/test_batch_closure.cpp
 // checks.
