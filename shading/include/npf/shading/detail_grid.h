@@ -48,22 +48,20 @@ struct DetailPosition {
     table::Lerp h, d, p;
 };
 
-inline DetailPosition detail_position(const DetailGrid& g, double u_h, double theta_d, double phi_d) {
-    // The rows of D and F and a periodic column (npf_equation.h), over the residual's own grid.
-    DetailPosition at;
-    at.h = equation::d_row(u_h, g.theta_h);
-    at.d = equation::f_row(theta_d, g.theta_d);
-    at.p = equation::column(phi_d, g.phi_d);
-    return at;
-}
-
-// The position generic over the number type (table::generic), for the batched closure.
+// The rows of D and F and a periodic column (npf_equation.h), over the residual's own grid;
+// generic over the number type (table::generic) for the batched closure.
 template <class T>
 NPF_GENERIC_INLINE void detail_position_of(const DetailGrid& g, T u_h, T theta_d, T phi_d, table::LerpOf<T>& h,
                                            table::LerpOf<T>& d, table::LerpOf<T>& p) {
     h = equation::d_row_of(u_h, g.theta_h);
     d = equation::f_row_of(theta_d, g.theta_d);
     p = equation::column_of(phi_d, g.phi_d);
+}
+
+inline DetailPosition detail_position(const DetailGrid& g, double u_h, double theta_d, double phi_d) {
+    table::LerpOf<double> h, d, p;
+    detail_position_of<double>(g, u_h, theta_d, phi_d, h, d, p);
+    return {table::to_lerp(h), table::to_lerp(d), table::to_lerp(p)};
 }
 
 // The weights of the eight corners, corner k = 4 a + 2 b + c taking the upper cell along h
