@@ -9,6 +9,7 @@
 #include <npf/converter/analytic/fresnel.h>
 #include <npf/converter/analytic/microfacet.h>
 #include <npf/core/error.h>
+#include <npf/core/simd_isa.h>
 
 #include <gtest/gtest.h>
 
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <complex>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -334,6 +336,42 @@ TEST(AnalyticFresnel, ValuesStayInUnitInterval) {
     }
 }
 
+// Fresnel::eval over many wavelengths (the vectorised conductor loop, portable and AVX2) gives
+// the one-at-a-time values to the bit, and both follow the complex-amplitude Fresnel equations.
+TEST(AnalyticFresnel, ManyWavelengthsGiveTheOneAtATimeBits) {
+    // eta 1, k 0 in the middle of the range (no interface), metals, and a weak absorber.
+    const SampledSpectrum eta({400.0, 500.0, 550.0, 600.0, 700.0}, {0.2, 1.0, 1.0, 1.0, 2.5});
+    const SampledSpectrum k({400.0, 500.0, 550.0, 600.0, 700.0}, {3.5, 0.0, 0.0, 0.0, 0.01});
+    const Fresnel f = Fresnel::conductor(eta, k);
+    std::vector<Fresnel::Coefficients> coefficients;
+    for (int j = 0; j < 37; ++j) coefficients.push_back(f.coefficients(380.0 + 10.0 * j));  // 37: a vector tail
+    std::vector<npf::SimdIsa> isas = {npf::SimdIsa::Portable};
+    if (npf::simd_isa_supported(npf::SimdIsa::Avx2)) isas.push_back(npf::SimdIsa::Avx2);
+    for (npf::SimdIsa isa : isas) {
+        const npf::SimdIsaScope scope(isa);
+        for (double c : {0.0, 1e-9, 1e-4, 0.01, 0.3, 0.70710678, 0.999, 1.0, -0.5, 1.5}) {
+            std::vector<double> many(coefficients.size(), -1.0);
+            f.eval(c, coefficients.data(), coefficients.size(), many.data());
+            for (std::size_t j = 0; j < coefficients.size(); ++j) {
+                const double one = f.eval(c, coefficients[j]);
+                EXPECT_EQ(many[j], one) << npf::simd_isa_name(isa) << " cos " << c << " channel " << j;
+                const double a = coefficients[j].a, b = coefficients[j].b;
+                const double cc = std::min(1.0, std::fabs(c));
+                if (a == 1.0 && b == 0.0) {
+                    EXPECT_EQ(one, 0.0);
+                    continue;
+                }
+                // Air -> n = a + i b: r_s = (c - n c_t) / (c + n c_t), r_p = (n c - c_t) / (n c + c_t).
+                const std::complex<double> n(a, b), ct = std::sqrt(1.0 - (1.0 - cc * cc) / (n * n));
+                const double rs = std::norm((cc - n * ct) / (cc + n * ct)), rp = std::norm((n * cc - ct) / (n * cc + ct));
+                if (cc > 0.0) {
+                    EXPECT_NEAR(one, 0.5 * (rs + rp), 1e-12) << "cos " << c << " n " << a << " + " << b << "i";
+                }
+            }
+        }
+    }
+}
+
 TEST(AnalyticFresnel, ConductorFromIorFilesCopper) {
     const std::string eta_file = npf::testing::shared_data_file("ior/Cu.eta.spd");
     if (eta_file.empty() || npf::testing::shared_data_file("ior/Cu.k.spd").empty())
@@ -603,6 +641,42 @@ TEST(AnalyticBrdf, NativeWavelengthsMatchLookups) {
         b.eval_cos(wi, wo, native, a.data());
         b.eval_cos(wi, wo, other, c.data());
         for (std::size_t k = 0; k < c.size(); ++k) ASSERT_NEAR(a[k], c[k], 1e-6f * a[k]) << wl[k] << " nm";
+    }
+}
+
+// Wavelength lists that query() has seen are evaluated from tables made once; the values are
+// those of looking the spectra up per evaluation, to the bit, also for lists beyond the tables'
+// slots and for queries made concurrently.
+TEST(AnalyticBrdf, QueriedWavelengthsGiveThePerEvaluationBits) {
+    const AnalyticMaterial m = everything(0.2f);
+    const AnalyticBrdf tabled(m), looked_up(m);
+    std::vector<std::vector<float>> lists;
+    for (int l = 0; l < 11; ++l) {  // more lists than slots
+        std::vector<float> wl;
+        for (int j = 0; j < 5 + 7 * l; ++j) wl.push_back(371.5f + float(j) * (600.f / float(5 + 7 * l)) + float(l));
+        lists.push_back(wl);
+    }
+    std::vector<ChannelQuery> queries(lists.size());
+    std::thread other([&] {
+        for (std::size_t l = 1; l < lists.size(); l += 2) queries[l] = tabled.query(Channels::spectral(lists[l]));
+    });
+    for (std::size_t l = 0; l < lists.size(); l += 2) queries[l] = tabled.query(Channels::spectral(lists[l]));
+    other.join();
+    Pcg32 rng(5);
+    for (std::size_t l = 0; l < lists.size(); ++l) {
+        // Made by hand, without query(): this source computes every channel by looking it up.
+        ChannelQuery by_hand;
+        by_hand.requested = Channels::spectral(lists[l]);
+        by_hand.index0.assign(lists[l].size(), 0);
+        by_hand.index1.assign(lists[l].size(), 0);
+        by_hand.weight1.assign(lists[l].size(), 0.f);
+        std::vector<float> a(lists[l].size()), b(lists[l].size());
+        for (int i = 0; i < 50; ++i) {
+            const Vec3 wi = uniform_hemisphere(rng), wo = uniform_hemisphere(rng);
+            tabled.eval_cos(wi, wo, queries[l], a.data());
+            looked_up.eval_cos(wi, wo, by_hand, b.data());
+            for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a[k], b[k]) << "list " << l << ", " << lists[l][k] << " nm";
+        }
     }
 }
 

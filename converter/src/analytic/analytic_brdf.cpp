@@ -205,6 +205,16 @@ AnalyticBrdf::SpectralTable AnalyticBrdf::make_table(const std::vector<float>& w
     return t;
 }
 
+const AnalyticBrdf::SpectralTable* AnalyticBrdf::table_for(const std::vector<float>& wavelengths) const {
+    if (wavelengths == m_native_table.wavelengths) return &m_native_table;
+    for (const auto& slot : m_query_tables->slots) {
+        const SpectralTable* t = slot.load(std::memory_order_acquire);
+        if (!t) break;
+        if (t->wavelengths == wavelengths) return t;
+    }
+    return nullptr;
+}
+
 ChannelQuery AnalyticBrdf::query(const Channels& requested) const {
     const std::string& src = m_material.name.empty() ? std::string("analytic material") : m_material.name;
     ChannelQuery q;
@@ -215,6 +225,13 @@ ChannelQuery AnalyticBrdf::query(const Channels& requested) const {
         for (float l : wl)
             if (!std::isfinite(l) || l <= 0.f)
                 throw Error(src, "requested wavelength " + fmt(l) + " nm is not a positive finite number");
+        // Once the slots are full, further lists are looked up per evaluation (as correct, slower).
+        QueryTables& tables = *m_query_tables;
+        std::lock_guard<std::mutex> lock(tables.adding);
+        if (!table_for(wl) && tables.owned.size() < QueryTables::kSlots) {
+            tables.owned.push_back(std::make_unique<const SpectralTable>(make_table(wl)));
+            tables.slots[tables.owned.size() - 1].store(tables.owned.back().get(), std::memory_order_release);
+        }
     }
     // Unused by this source (it computes every channel), sized as the interface promises.
     const std::size_t n = requested.size();
@@ -243,8 +260,13 @@ void AnalyticBrdf::accumulate(const Vec3& wi, const Vec3& wo, const SpectralTabl
         if (table) {
             const double* w = table->lobe_weight[k].data() + first;
             const Fresnel::Coefficients* fc = table->fresnel[k].data() + first;
-            for (std::size_t j = 0; j < n; ++j)
-                acc[j] += Acc(geo * w[j] * (one ? 1.0 : lobe.fresnel.eval(cd, fc[j])));
+            for (std::size_t j0 = 0; j0 < n; j0 += kSpectralChunk) {
+                const std::size_t len = std::min(kSpectralChunk, n - j0);
+                double f[kSpectralChunk];
+                if (one) std::fill(f, f + len, 1.0);
+                else lobe.fresnel.eval(cd, fc + j0, len, f);
+                for (std::size_t j = 0; j < len; ++j) acc[j0 + j] += Acc(geo * w[j0 + j] * f[j]);
+            }
         } else {
             for (std::size_t j = 0; j < n; ++j)
                 acc[j] += Acc(geo * lobe.weight(lambda[j]) * (one ? 1.0 : lobe.fresnel.eval(cd, lambda[j])));
@@ -296,8 +318,8 @@ void AnalyticBrdf::eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& 
     }
     const std::vector<float>& wl = query.requested.wavelengths();
     const std::size_t count = std::min(n, wl.size());
-    // The material's own wavelengths (what writers ask for) come from the precomputed table.
-    const SpectralTable* table = wl == m_native_table.wavelengths ? &m_native_table : nullptr;
+    // Known wavelength lists (the material's own, those query() has seen) come from a table.
+    const SpectralTable* table = table_for(wl);
     for (std::size_t start = 0; start < count; start += kSpectralChunk) {
         const std::size_t len = std::min(kSpectralChunk, count - start);
         double buf[kSpectralChunk] = {};

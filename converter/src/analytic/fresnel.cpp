@@ -3,11 +3,15 @@
 // complex arithmetic); thin films use the complex amplitudes of npf-method-notes.md sec. 3.
 #include <npf/converter/analytic/fresnel.h>
 
+#include "fresnel_avx2.h"
+
 #include <npf/core/error.h>
+#include <npf/core/simd_isa.h>
 #include <npf/core/vec.h>
 
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -18,21 +22,6 @@ namespace {
 using Complex = std::complex<double>;
 
 double clamp01(double v) { return v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0; }
-
-// Exact unpolarised reflectance of air -> eta + i k (pbrt's FrConductor with eta_i = 1).
-double conductor_reflectance(double c, double eta, double k) {
-    if (eta == 1.0 && k == 0.0) return 0.0;  // no interface (and 0/0 at c = 0 otherwise)
-    const double c2 = c * c, s2 = 1.0 - c2;
-    const double t0 = eta * eta - k * k - s2;
-    const double a2b2 = std::sqrt(t0 * t0 + 4.0 * eta * eta * k * k);
-    const double a = std::sqrt(std::fmax(0.0, 0.5 * (a2b2 + t0)));
-    const double t1 = a2b2 + c2, t2 = 2.0 * c * a;
-    const double rs = (t1 - t2) / (t1 + t2);
-    const double t3 = c2 * a2b2 + s2 * s2, t4 = t2 * s2;
-    const double rp = rs * (t3 - t4) / (t3 + t4);
-    const double r = 0.5 * (rs + rp);
-    return std::isfinite(r) ? clamp01(r) : 1.0;
-}
 
 // Air -> real index eta. For eta < 1 total internal reflection gives 1 past the critical
 // angle; from air into any denser medium (eta >= 1) it cannot happen.
@@ -95,6 +84,8 @@ void require_values(const color::SampledSpectrum& s, const char* what, double lo
         }
     }
 }
+
+#include "conductor_loop.h"
 
 }  // namespace
 
@@ -171,7 +162,11 @@ double Fresnel::eval(double cos_theta_d, const Coefficients& k) const {
     const double c = clamp01(std::fabs(cos_theta_d));
     switch (m_kind) {
     case Kind::Conductor:
-        return conductor_reflectance(c, k.a, k.b);
+    {
+        double r = 0.0;
+        conductor_reflectance_loop(c, &k, 1, &r);
+        return r;
+    }
     case Kind::Dielectric:
         return dielectric_reflectance(c, k.a);
     case Kind::Schlick: {
@@ -185,6 +180,16 @@ double Fresnel::eval(double cos_theta_d, const Coefficients& k) const {
         return 1.0;
     }
     return 1.0;
+}
+
+void Fresnel::eval(double cos_theta_d, const Coefficients* k, std::size_t n, double* out) const {
+    if (m_kind != Kind::Conductor) {
+        for (std::size_t j = 0; j < n; ++j) out[j] = eval(cos_theta_d, k[j]);
+        return;
+    }
+    const double c = clamp01(std::fabs(cos_theta_d));
+    if (simd_isa() == SimdIsa::Avx2 && fresnel_detail::avx2::conductor_reflectances(c, k, n, out)) return;
+    conductor_reflectance_loop(c, k, n, out);
 }
 
 double Fresnel::eval(double cos_theta_d, double lambda_nm) const {

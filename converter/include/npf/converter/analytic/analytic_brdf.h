@@ -33,8 +33,11 @@
 #include <npf/core/brdf.h>
 
 #include <array>
-#include <functional>
+#include <atomic>
 #include <cstddef>
+#include <functional>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -93,6 +96,18 @@ private:
     };
     SpectralTable make_table(const std::vector<float>& wavelengths) const;
 
+    // Tables for other wavelength lists, made when query() sees one (a fit at a subset of the
+    // material's wavelengths asks millions of times for the same list: looking each spectrum
+    // up per evaluation was most of a preview conversion). Append-only, read without a lock;
+    // shared by copies, which hold the same material.
+    struct QueryTables {
+        static constexpr std::size_t kSlots = 8;
+        std::array<std::atomic<const SpectralTable*>, kSlots> slots{};
+        std::mutex adding;
+        std::vector<std::unique_ptr<const SpectralTable>> owned;
+    };
+    const SpectralTable* table_for(const std::vector<float>& wavelengths) const;
+
     // Adds f_r cos(theta_o) at `n` wavelengths to acc[]: entries [first, first + n) of
     // `table`, or, when table is null, lambda[0..n) looked up in the spectra. Both directions
     // must be above the horizon.
@@ -108,6 +123,7 @@ private:
     std::vector<float> m_lobe_probability;         // sampling mixture: specular lobes..., diffuse, retro, sheen
     std::vector<float> m_lobe_cdf;                 // its running sum (size + 1 entries, last = 1)
     SpectralTable m_grid_table, m_native_table;
+    std::shared_ptr<QueryTables> m_query_tables = std::make_shared<QueryTables>();
 };
 
 }  // namespace npf

@@ -6,6 +6,7 @@
 
 #include <npf/color/spectrum.h>
 
+#include <cstddef>
 #include <string>
 
 namespace npf {
@@ -39,6 +40,10 @@ public:
     };
     Coefficients coefficients(double lambda_nm) const;
     double eval(double cos_theta_d, const Coefficients& coefficients) const;
+    // out[j] = eval(cos_theta_d, coefficients[j]) for j < n, the same bits: one angle at many
+    // wavelengths, the conductor's arithmetic vectorised across them (a spectral source's
+    // evaluation was mostly this).
+    void eval(double cos_theta_d, const Coefficients* coefficients, std::size_t n, double* out) const;
 
 private:
     Kind m_kind = Kind::One;
