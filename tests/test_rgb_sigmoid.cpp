@@ -1,5 +1,7 @@
 // Tests of the sigmoid-polynomial RGB upsampling (npf/color/rgb_sigmoid.h): round trips through
 // spectrum_to_xyz for the table and the refined fit, greys, bounds, HDR scaling and emitters.
+#include "../ocio/src/sigmoid_fit.h"
+
 #include <npf/color/rgb_sigmoid.h>
 #include <npf/color/spectrum.h>
 #include <npf/color/wavelength_sampling.h>
@@ -10,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <thread>
 #include <vector>
@@ -67,6 +70,17 @@ TEST(RgbSigmoid, TableBuildsOnceFromSeveralThreads) {
         threads.emplace_back([t, &results] { results[t] = rgb_to_sigmoid({0.7, 0.2, 0.1}); });
     for (std::thread& t : threads) t.join();
     for (const RgbSigmoid& r : results) EXPECT_EQ(r.coefficients(), results[0].coefficients());
+}
+
+// The table the build fitted and wrote into the library is the one SigmoidTable::fit() gives now,
+// to the bit (a stale or corrupted generated file would differ).
+TEST(RgbSigmoid, BuiltInTableIsTheFit) {
+    using npf::color::detail::SigmoidTable;
+    const SigmoidTable fitted = SigmoidTable::fit();
+    const std::vector<float>& built_in = npf::color::detail::sigmoid_table().coefficients();
+    ASSERT_EQ(built_in.size(), SigmoidTable::kValues);
+    EXPECT_EQ(std::memcmp(fitted.coefficients().data(), built_in.data(), built_in.size() * sizeof(float)), 0);
+    EXPECT_THROW(SigmoidTable(std::vector<float>(10, 0.f)), npf::Error);
 }
 
 // The table alone (pbrt-v4's lookup) cannot reach 1e-3 everywhere at 32^3 nodes: measured on

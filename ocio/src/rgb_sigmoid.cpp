@@ -26,6 +26,17 @@ double sigmoid(double p) {
 
 }  // namespace
 
+namespace detail {
+
+RgbSigmoid to_nanometres(const SigmoidCoefficients& c) {
+    // p(x) with x = (l - l0) / span, expanded in powers of l.
+    const double l0 = kSigmoidFirstNm, inv = 1.0 / kSigmoidSpanNm;
+    const double a = c[0], b = c[1], k = c[2];
+    return RgbSigmoid(a * inv * inv, b * inv - 2.0 * a * l0 * inv * inv, k - b * l0 * inv + a * l0 * l0 * inv * inv);
+}
+
+}  // namespace detail
+
 RgbSigmoid::RgbSigmoid() : m_c{0.0, 0.0, -std::numeric_limits<double>::infinity()} {}
 
 RgbSigmoid::RgbSigmoid(double c0, double c1, double c2) : m_c{c0, c1, c2} {

@@ -145,13 +145,6 @@ bool solve3(const Mat3& a, const std::array<double, 3>& b, std::array<double, 3>
 
 }  // namespace
 
-RgbSigmoid to_nanometres(const SigmoidCoefficients& c) {
-    // p(x) with x = (l - l0) / span, expanded in powers of l.
-    const double l0 = kSigmoidFirstNm, inv = 1.0 / kSigmoidSpanNm;
-    const double a = c[0], b = c[1], k = c[2];
-    return RgbSigmoid(a * inv * inv, b * inv - 2.0 * a * l0 * inv * inv, k - b * l0 * inv + a * l0 * l0 * inv * inv);
-}
-
 double fit_sigmoid(const Rgb& rgb, SigmoidCoefficients& c, Quadrature quadrature, double tolerance_squared,
                    int max_iterations) {
     const Rule& r = rule(quadrature);

@@ -5,6 +5,7 @@
 #include <npf/color/rgb_sigmoid.h>
 
 #include <array>
+#include <cstddef>
 #include <vector>
 
 namespace npf::color::detail {
@@ -43,23 +44,29 @@ double fit_sigmoid(const Rgb& rgb, SigmoidCoefficients& c, Quadrature quadrature
 class SigmoidTable {
 public:
     static constexpr int kResolution = 32;
+    static constexpr std::size_t kValues = std::size_t(3) * kResolution * kResolution * kResolution * 3;
 
-    // Fits every node, on up to 16 threads (npf::parallel_for).
-    SigmoidTable();
+    // Fits every node, on up to 16 threads (npf::parallel_for): about 0.7 s of CPU. The same
+    // table on any number of threads. The build does it once (make_sigmoid_table.cpp).
+    static SigmoidTable fit();
+    // A table fitted before: kValues coefficients in the layout [largest][z][y][x][3].
+    explicit SigmoidTable(std::vector<float> coefficients);
+
     // Trilinear interpolation; `rgb` in [0, 1]^3, not grey.
     SigmoidCoefficients lookup(const Rgb& rgb) const;
-    double build_seconds() const { return m_build_seconds; }
+    const std::vector<float>& coefficients() const { return m_coefficients; }
 
 private:
+    SigmoidTable();
     std::size_t index(int largest, int zi, int yi, int xi) const;
     void fit_column(int largest, int yi, int xi);
 
     std::array<double, kResolution> m_z;
     std::vector<float> m_coefficients;  // [largest][z][y][x][3]
-    double m_build_seconds = 0.0;
 };
 
-// Built on first use (thread-safe).
+// The table fitted when npf was built (sigmoid_table_data.cpp, generated), read on first use
+// (thread-safe).
 const SigmoidTable& sigmoid_table();
 
 }  // namespace npf::color::detail

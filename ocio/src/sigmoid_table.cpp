@@ -1,10 +1,12 @@
-// The sigmoid coefficient table: built once at first use, on all cores, then only read.
+// The sigmoid coefficient table: fitted once when npf is built (make_sigmoid_table.cpp), then only read.
 #include "sigmoid_fit.h"
 
+#include <npf/core/error.h>
 #include <npf/core/parallel.h>
 
 #include <algorithm>
-#include <chrono>
+#include <string>
+#include <utility>
 
 namespace npf::color::detail {
 
@@ -20,16 +22,25 @@ double smoothstep(double x) { return x * x * (3.0 - 2.0 * x); }
 
 }  // namespace
 
-SigmoidTable::SigmoidTable() : m_coefficients(std::size_t(3) * kN * kN * kN * 3) {
-    const auto start = std::chrono::steady_clock::now();
+SigmoidTable::SigmoidTable() {
     for (int k = 0; k < kN; ++k) m_z[k] = smoothstep(smoothstep(k / double(kN - 1)));
+}
 
+SigmoidTable::SigmoidTable(std::vector<float> coefficients) : SigmoidTable() {
+    if (coefficients.size() != kValues)
+        throw Error("sigmoid table", std::to_string(coefficients.size()) + " coefficients, not " + std::to_string(kValues));
+    m_coefficients = std::move(coefficients);
+}
+
+SigmoidTable SigmoidTable::fit() {
+    SigmoidTable t;
+    t.m_coefficients.assign(kValues, 0.f);
     // One task per (largest component, y node): each fits its x nodes along z. Tasks are
     // independent, and the table the same on any number of threads (at most 16).
     npf::parallel_for(std::size_t(3 * kN), [&](std::size_t task) {
-        for (int xi = 0; xi < kN; ++xi) fit_column(int(task) / kN, int(task) % kN, xi);
+        for (int xi = 0; xi < kN; ++xi) t.fit_column(int(task) / kN, int(task) % kN, xi);
     }, std::min(npf::thread_count(0), 16));
-    m_build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return t;
 }
 
 std::size_t SigmoidTable::index(int largest, int zi, int yi, int xi) const {
@@ -72,11 +83,6 @@ SigmoidCoefficients SigmoidTable::lookup(const Rgb& rgb) const {
                     lerp(dy, lerp(dx, at(0, 0, 1), at(1, 0, 1)), lerp(dx, at(0, 1, 1), at(1, 1, 1))));
     }
     return c;
-}
-
-const SigmoidTable& sigmoid_table() {
-    static const SigmoidTable table;  // C++11: initialised once, other callers wait
-    return table;
 }
 
 }  // namespace npf::color::detail
