@@ -11,6 +11,7 @@
 #include <Imath/half.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -420,6 +421,12 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
     std::vector<double>& albedo_base = sys.albedo_base;
     {
         constexpr int kU = 128, kPhi = 128;
+        std::array<double, kPhi> cos_phi, sin_phi;  // once, not once per ring and view
+        for (int b = 0; b < kPhi; ++b) {
+            const double phi = kTwoPiD * (b + 0.5) / kPhi;
+            cos_phi[b] = std::cos(phi);
+            sin_phi[b] = std::sin(phi);
+        }
         npf::parallel_slices(V, std::size_t(threads), [&](std::size_t, std::size_t begin, std::size_t end) {
             std::vector<float> raw(C);
             std::vector<double> base(C);
@@ -430,8 +437,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
                     const double u = (a + 0.5) / kU, theta_h = equation::theta_h_of_u(u);
                     const double dtheta = kPiD * u / kU, sh_ = std::sin(theta_h), ch_ = std::cos(theta_h);
                     for (int b = 0; b < kPhi; ++b) {
-                        const double phi = kTwoPiD * (b + 0.5) / kPhi;
-                        const Vec3d h{sh_ * std::cos(phi), sh_ * std::sin(phi), ch_};
+                        const Vec3d h{sh_ * cos_phi[b], sh_ * sin_phi[b], ch_};
                         const double cos_ih = wi.x * h.x + wi.y * h.y + wi.z * h.z;
                         if (!(cos_ih > 0.0)) continue;
                         const Vec3d wo{2.0 * cos_ih * h.x - wi.x, 2.0 * cos_ih * h.y - wi.y, 2.0 * cos_ih * h.z - wi.z};
