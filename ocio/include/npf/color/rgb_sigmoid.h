@@ -6,10 +6,9 @@
 // a sigmoid onto (0, 1): smooth, bounded, three numbers per colour. The coefficients are fitted
 // (Gauss-Newton on the CIELAB difference, as pbrt's rgb2spec_opt) so that the spectrum's colour
 // under npf's convention (spectrum_to_xyz: under D65, 1 nm sums, then xyz_to_linear_srgb) is
-// the linear sRGB colour. They are tabulated once, at first use, over a grid indexed by the
+// the linear sRGB colour. They are tabulated when npf is built, over a grid indexed by the
 // largest component z and the other two divided by it (pbrt's layout and z spacing, 32 nodes
-// per axis instead of pbrt's 64 so that building takes a fraction of a second); a colour's
-// coefficients are interpolated trilinearly.
+// per axis instead of pbrt's 64); a colour's coefficients are interpolated trilinearly.
 //
 // Accuracy (docs/color.md has the measurements): the table alone returns colours to about 1e-3
 // (median 8e-4, 99th percentile 2.5e-3, up to 2.3e-2 near the white corner, where two
@@ -52,12 +51,12 @@ enum class SigmoidFit {
 // The reflectance for a linear sRGB colour in [0, 1]^3; components outside are clamped into
 // it (use RgbUnboundedSpectrum for brighter colours). Greys give the constant spectrum (in both
 // modes: flat, although a constant c has colour c (1.00016, 0.99998, 0.99976), see spectrum.h).
-// Thread-safe; the first call builds the table (measured in docs/color.md). Non-finite input
+// Thread-safe; the first call loads the built-in table. Non-finite input
 // throws npf::Error.
 RgbSigmoid rgb_to_sigmoid(const Rgb& rgb, SigmoidFit fit = SigmoidFit::Table);
 
-// Builds the coefficient table now rather than at the first rgb_to_sigmoid call (which would
-// otherwise wait for it). Idempotent and thread-safe.
+// Loads the built-in coefficient table now rather than at the first rgb_to_sigmoid call (a
+// copy of 1.2 MB). Idempotent and thread-safe.
 void prepare_rgb_sigmoid_table();
 
 // Any non-negative colour, HDR included (pbrt-v4's RGBUnboundedSpectrum): scale = 2 max(rgb),

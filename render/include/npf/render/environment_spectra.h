@@ -23,8 +23,8 @@ namespace npf::render {
 
 class EnvironmentSpectra {
 public:
-    // Upsamples every texel of `map` on `threads` threads (0: all cores). Builds npf::color's
-    // sigmoid table on first use (about a third of a second), then about 0.15 us per texel.
+    // Upsamples every texel of `map` on `threads` threads (0: all cores): about 0.1 us per
+    // texel (a 1024 x 512 map in 0.03 s on 2 cores).
     explicit EnvironmentSpectra(const EnvironmentMap& map, unsigned threads = 0);
 
     // U_c(l) of texel `texel` at `n` wavelengths (nm), written to `out`.
