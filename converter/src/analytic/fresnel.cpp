@@ -161,8 +161,7 @@ double Fresnel::eval(double cos_theta_d, const Coefficients& k) const {
     // |cos|: a back-facing microfacet is never evaluated by AnalyticBrdf; clamp for callers.
     const double c = clamp01(std::fabs(cos_theta_d));
     switch (m_kind) {
-    case Kind::Conductor:
-    {
+    case Kind::Conductor: {
         double r = 0.0;
         conductor_reflectance_loop(c, &k, 1, &r);
         return r;
