@@ -92,6 +92,14 @@ void expect_sample_batch_equals_scalar(const NpfClosure& c, const Pairs& p, Batc
     std::uniform_real_distribution<float> uni(0.f, 1.f);
     std::vector<float> u1(n), u2(n);
     for (std::size_t i = 0; i < n; ++i) u1[i] = uni(rng), u2[i] = uni(rng);
+    // The ends of [0, 1) and the strategies' boundary (u2 at the diffuse probability, in float,
+    // and just beside it), where the vector draw's selects and clamps must follow the scalar's.
+    const float below_one = 0x1.fffffep-1f, pd = float(c.diffuse_probability());
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i % 7 == 3) u1[i] = i % 14 == 3 ? 0.f : below_one;
+        if (i % 11 == 5) u2[i] = i % 22 == 5 ? 0.f : below_one;
+        if (i % 13 == 6) u2[i] = i % 39 == 6 ? pd : std::nextafter(pd, i % 39 == 19 ? 0.f : 1.f);
+    }
     std::vector<float> lx(n, -9.f), ly(n, -9.f), lz(n, -9.f), pdf(n, -1.f), weights(count * n, -1.f), pdf_only(n, -1.f);
     std::vector<float> lx2(n), ly2(n), lz2(n), scalar(count);
     float* const light[3] = {lx.data(), ly.data(), lz.data()};

@@ -3,7 +3,6 @@
 #include "luminance.h"
 
 #include <npf/core/error.h>
-#include <npf/core/sin_cos.h>
 #include <npf/shading/npf_equation.h>
 #include <npf/shading/npf_model.h>
 #include <npf/shading/table_interpolation.h>
@@ -56,14 +55,10 @@ std::vector<double> HalfVectorSampler::luminance_averaged_ndf(const NpfModel& m)
 Vec3 HalfVectorSampler::sample(float u1, float u2) const {
     const AliasTable::Draw cell = m_cells.sample(u1);
     const std::size_t k = cell.index / std::uint32_t(m_phi), j = cell.index % std::uint32_t(m_phi);
-    // Uniform in cos theta between the row's edges, uniform in phi across the column.
-    const double s0 = m_half_sin2[k], s1 = m_half_sin2[k + 1];
-    const double s = s0 + (s1 - s0) * double(cell.remainder);
-    const double cos_theta = 1.0 - 2.0 * s, sin_theta = 2.0 * std::sqrt(std::max(0.0, s * (1.0 - s)));
-    const double phi = kTwoPiD * (double(j) + double(u2)) / m_phi;
-    double sin_phi, cos_phi;
-    sin_cos(phi, sin_phi, cos_phi);
-    return Vec3(float(sin_theta * cos_phi), float(sin_theta * sin_phi), float(cos_theta));
+    double x, y, z;
+    direction_in_cell(m_half_sin2[k], m_half_sin2[k + 1], double(cell.remainder), double(j), double(u2), double(m_phi), x,
+                      y, z);
+    return Vec3(float(x), float(y), float(z));
 }
 
 double HalfVectorSampler::pdf(const Vec3& h) const {

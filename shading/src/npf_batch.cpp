@@ -1,10 +1,13 @@
 // The batched closure (npf_batch.h): blocks of kBlock pairs; the angles of a block by a vector
 // kernel (batch_angles.h), then the table lookups and values four pairs at a time by vector code
-// (batch_values.h, AVX2), or pair by pair with the scalar closure's code.
+// (batch_values.h, AVX2), or pair by pair with the scalar closure's code; sample's draws likewise
+// (batch_draw.h).
 #include <npf/shading/npf_batch.h>
 #include <npf/shading/npf_closure.h>
 
 #include "batch_angles.h"
+#include "batch_draw.h"
+#include "batch_pdf.h"
 #include "batch_values.h"
 #include "finite_float.h"
 
@@ -78,6 +81,10 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
         for (std::size_t j = 0; j < m; ++j) valid[j] = in_domain(view, light, b + j);
         // The values of whole groups of four pairs by vector code, the rest pair by pair.
         const std::size_t done = vector_values ? batch_detail::values_avx2(m_model, angles, m, valid, block_request, b, values, n) : 0;
+        const std::size_t pdf_done = pdf && avx2 ? batch_detail::pdfs_avx2(m_sampler, m_diffuse_probability, m, angles.theta_h,
+                                                                           angles.u_h, angles.phi_h, angles.cos_d,
+                                                                           angles.cos_o, pdf + b)
+                                                 : 0;
         for (std::size_t j = 0; j < m; ++j) {
             const std::size_t i = b + j;
             if (!valid[j]) {
@@ -88,7 +95,7 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
                 m_model.position(angles.at(j), at);
                 write_values(at, at.cos_o, request_of(i), values + i, n);
             }
-            if (pdf) pdf[i] = pdf_at(angles.theta_h[j], angles.u_h[j], angles.phi_h[j], angles.cos_d[j], angles.cos_o[j]);
+            if (pdf && j >= pdf_done) pdf[i] = pdf_at(angles.theta_h[j], angles.u_h[j], angles.phi_h[j], angles.cos_d[j], angles.cos_o[j]);
         }
     }
 }
@@ -105,24 +112,47 @@ void NpfClosure::pdf_batch(std::size_t n, const DirectionArrays& view, const Dir
         } else {
             batch_detail::half_vectors_portable(m, p.view, p.light, d_azimuth, h);
         }
+        std::size_t done = 0;
+        if (avx2) {
+            double cos_light[kBlock];
+            for (std::size_t j = 0; j < m; ++j) cos_light[j] = light.z[b + j];
+            done = batch_detail::pdfs_avx2(m_sampler, m_diffuse_probability, m, h.theta_h, h.u_h, h.phi_h, h.cos_d, cos_light,
+                                           pdf + b);
+        }
         for (std::size_t j = 0; j < m; ++j) {
             const std::size_t i = b + j;
-            pdf[i] = in_domain(view, light, i) ? pdf_at(h.theta_h[j], h.u_h[j], h.phi_h[j], h.cos_d[j], light.z[i]) : 0.f;
+            if (!in_domain(view, light, i)) {
+                pdf[i] = 0.f;
+            } else if (j >= done) {
+                pdf[i] = pdf_at(h.theta_h[j], h.u_h[j], h.phi_h[j], h.cos_d[j], light.z[i]);
+            }
         }
     }
 }
 
 void NpfClosure::sample_batch(std::size_t n, const DirectionArrays& view, const float* u1, const float* u2,
                               BatchWavelengths wavelengths, float* const light_out[3], float* pdf, float* weights) const {
-    // The draws pair by pair (alias table and cosine map), then the pdf and the values of the
-    // drawn pairs by the batched code: the same numbers as sample(), whose pdf is pdf() and whose
-    // weights are eval's values over that pdf.
-    for (std::size_t i = 0; i < n; ++i) {
-        Vec3 light(0.f, 0.f, 0.f);
-        if (!draw_light(Vec3(view.x[i], view.y[i], view.z[i]), u1[i], u2[i], light)) light = Vec3(0.f, 0.f, 0.f);
-        light_out[0][i] = light.x;
-        light_out[1][i] = light.y;
-        light_out[2][i] = light.z;
+    // The draws (the half-vector strategy four pairs at a time by vector code, the cosine
+    // strategy and the rest pair by pair), then the pdf and the values of the drawn pairs by the
+    // batched code: the same numbers as sample(), whose pdf is pdf() and whose weights are eval's
+    // values over that pdf.
+    const bool vector_draw = simd_isa() == SimdIsa::Avx2 && !m_sampler.empty();
+    std::uint8_t redo[kBlock];
+    for (std::size_t b = 0; b < n; b += kBlock) {
+        const std::size_t m = std::min(kBlock, n - b);
+        const float* const v[3] = {view.x + b, view.y + b, view.z + b};
+        float* const out[3] = {light_out[0] + b, light_out[1] + b, light_out[2] + b};
+        const std::size_t done =
+            vector_draw ? batch_detail::draw_lights_avx2(m_sampler, m_diffuse_probability, m, v, u1 + b, u2 + b, out, redo) : 0;
+        for (std::size_t j = 0; j < m; ++j) {
+            if (j < done && !redo[j]) continue;
+            const std::size_t i = b + j;
+            Vec3 light(0.f, 0.f, 0.f);
+            if (!draw_light(Vec3(view.x[i], view.y[i], view.z[i]), u1[i], u2[i], light)) light = Vec3(0.f, 0.f, 0.f);
+            light_out[0][i] = light.x;
+            light_out[1][i] = light.y;
+            light_out[2][i] = light.z;
+        }
     }
     const DirectionArrays drawn{light_out[0], light_out[1], light_out[2]};
     if (!weights) {

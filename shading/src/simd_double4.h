@@ -52,6 +52,13 @@ inline Double4 gather(const float* table, __m128i index) {
     return Double4(_mm256_cvtps_pd(v));
 }
 
+// sin_cos_of's two steps (npf/core/sin_cos.h) on four lanes: floor, and entry q of four values
+// chosen by masks.
+inline Double4 floor_of(Double4 a) { return floor(a); }
+inline Double4 quadrant_pick(Double4 q, Double4 a0, Double4 a1, Double4 a2, Double4 a3) {
+    return select(q == Double4(0.0), a0, select(q == Double4(1.0), a1, select(q == Double4(2.0), a2, a3)));
+}
+
 inline Double4 load4(const double* p) { return Double4(_mm256_loadu_pd(p)); }
 inline Double4 load4(const float* p) { return Double4(_mm256_cvtps_pd(_mm_loadu_ps(p))); }
 inline void store4(double* p, Double4 a) { _mm256_storeu_pd(p, a.v); }

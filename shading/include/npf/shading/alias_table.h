@@ -28,12 +28,15 @@ public:
     std::size_t size() const { return m_bins.size(); }
     bool empty() const { return m_bins.empty(); }
 
-private:
     struct Bin {
         float keep = 1.f;         // probability of keeping this bin once chosen
         std::uint32_t alias = 0;  // the bin taken otherwise
         float pmf = 0.f;
     };
+    // The bins, for the batched closure's vector draw (sample()'s steps on four numbers).
+    const std::vector<Bin>& bins() const { return m_bins; }
+
+private:
     std::vector<Bin> m_bins;
 };
 

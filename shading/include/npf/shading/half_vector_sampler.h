@@ -11,8 +11,10 @@
 // peaks need them.
 #pragma once
 
+#include <npf/core/sin_cos.h>
 #include <npf/core/vec.h>
 #include <npf/shading/alias_table.h>
+#include <npf/shading/table_interpolation.h>
 
 #include <vector>
 
@@ -42,6 +44,33 @@ public:
     // The same from h's polar angle (radians, [0, pi/2)), its square-root-mapped coordinate
     // u_h = sqrt(theta_h / (pi/2)) and its azimuth ([0, 2 pi)).
     double pdf(double theta_h, double u_h, double phi_h) const;
+
+    // What sample() and pdf() read, for the batched closure's vector code: the cells' alias
+    // table, the rows' edges and inverse solid angles, and the grid's size.
+    const AliasTable& cells() const { return m_cells; }
+    const std::vector<double>& half_sin2() const { return m_half_sin2; }
+    const std::vector<double>& inv_solid_angle() const { return m_inv_solid_angle; }
+    int theta_cells() const { return m_theta; }
+    int phi_cells() const { return m_phi; }
+
+    // The half vector of a draw in cell (row, column j): s0, s1 the row's edges (half_sin2), t the
+    // alias table's remainder, u2 the second number. sample()'s arithmetic, generic over the
+    // number type (double, or four doubles in the batched draw) so that both give the same bits.
+    template <class T>
+    NPF_GENERIC_INLINE static void direction_in_cell(T s0, T s1, T t, T j, T u2, T columns, T& x, T& y, T& z) {
+        using table::generic::select;
+        using table::generic::sqrt;
+        // Uniform in cos theta between the row's edges, uniform in phi across the column.
+        const T s = s0 + (s1 - s0) * t;
+        const T q = s * (T(1.0) - s);
+        const T cos_theta = T(1.0) - T(2.0) * s, sin_theta = T(2.0) * sqrt(select(T(0.0) < q, q, T(0.0)));
+        const T phi = T(kTwoPiD) * (j + u2) / columns;
+        T sin_phi, cos_phi;
+        sin_cos_of(phi, sin_phi, cos_phi);
+        x = sin_theta * cos_phi;
+        y = sin_theta * sin_phi;
+        z = cos_theta;
+    }
 
 private:
     int m_theta = 0, m_phi = 0;

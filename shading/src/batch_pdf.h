@@ -1,0 +1,20 @@
+// The batched closure's pdf as vector code (batch_pdf_avx2.cpp): NpfClosure::pdf_at four pairs at
+// a time from a block's half-vector angles, with its arithmetic in its order (the sampler's cell,
+// its pmf over its solid angle, the mixture with the cosine strategy, finite_float), so that every
+// lane gets the scalar pdf's bits.
+#pragma once
+
+#include <npf/shading/half_vector_sampler.h>
+
+#include <cstddef>
+
+namespace npf::batch_detail {
+
+// pdf[j] = pdf_at(theta_h[j], u_h[j], phi_h[j], cos_d[j], cos_light[j]) for j in [0, n - n % 4),
+// whatever the pair's domain (the caller zeroes pairs outside it). Returns the number of pairs
+// written: 0 where this build has no AVX2, the sampler is empty or the cosine strategy is the
+// only one (the caller's scalar code covers those).
+std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const double* theta_h,
+                      const double* u_h, const double* phi_h, const double* cos_d, const double* cos_light, float* pdf);
+
+}  // namespace npf::batch_detail

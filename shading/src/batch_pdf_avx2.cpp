@@ -1,0 +1,71 @@
+// The batched closure's pdf for AVX2 (batch_pdf.h). Compiled with -mavx2 and without FMA
+// (CMakeLists.txt), called only where the CPU has AVX2 (npf_batch.cpp). Each step is the scalar
+// code's IEEE operation on four lanes, so the pdfs equal NpfClosure::pdf_at's to the bit
+// (tests/test_batch_closure.cpp).
+#include "batch_pdf.h"
+
+#if defined(__AVX2__)
+#include "simd_double4.h"
+
+#include <limits>
+
+namespace npf::batch_detail {
+
+namespace {
+
+using simd::Double4;
+using simd::Mask4;
+
+Mask4 operator&&(Mask4 a, Mask4 b) { return {_mm256_and_pd(a.m, b.m)}; }
+
+// std::min(int(x), last) for x >= 0 (as the scalar code's truncating conversion), as int32; held
+// in [0, last] for any x, so that a pair outside the domain (whose angles mean nothing) reads in
+// bounds too.
+__m128i cell_of(Double4 x, int last) {
+    return _mm_max_epi32(_mm_min_epi32(_mm256_cvttpd_epi32(x.v), _mm_set1_epi32(last)), _mm_setzero_si128());
+}
+
+}  // namespace
+
+std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const double* theta_h,
+                      const double* u_h, const double* phi_h, const double* cos_d, const double* cos_light, float* pdf) {
+    if (sampler.empty() || !(diffuse_probability < 1.0)) return 0;
+    const std::vector<AliasTable::Bin>& bins = sampler.cells().bins();
+    const double* inv_solid_angle = sampler.inv_solid_angle().data();
+    const int rows = sampler.theta_cells(), columns = sampler.phi_cells();
+    const Double4 pd(diffuse_probability), spec_share(1.0 - diffuse_probability);
+    const double max_float = std::numeric_limits<float>::max();
+    const std::size_t groups = n - n % 4;
+    for (std::size_t i = 0; i < groups; i += 4) {
+        const Double4 theta = simd::load4(theta_h + i), u = simd::load4(u_h + i), phi = simd::load4(phi_h + i);
+        const Double4 cd = simd::load4(cos_d + i);
+        // HalfVectorSampler::pdf(theta, u, phi): its cell's pmf over its solid angle; 0 outside
+        // (those lanes read some cell, then drop it).
+        const Mask4 inside = theta < Double4(kHalfPiD) && Mask4{_mm256_cmp_pd(phi.v, _mm256_setzero_pd(), _CMP_GE_OQ)};
+        alignas(16) std::int32_t k[4], j[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(k), cell_of(u * Double4(double(rows)), rows - 1));
+        _mm_store_si128(reinterpret_cast<__m128i*>(j), cell_of(phi / Double4(kTwoPiD) * Double4(double(columns)), columns - 1));
+        double pmf[4], inv[4];
+        for (int l = 0; l < 4; ++l) {
+            pmf[l] = double(bins[std::size_t(k[l]) * std::size_t(columns) + std::size_t(j[l])].pmf);
+            inv[l] = inv_solid_angle[k[l]];
+        }
+        const Double4 sampler_pdf = simd::select(inside, simd::load4(pmf) * simd::load4(inv), Double4(0.0));
+        // pdf_at: the mixture with the cosine strategy, then finite_float.
+        Double4 p = pd * simd::load4(cos_light + i) * Double4(1.0 / kPiD);
+        p = simd::select(cd > Double4(0.0), p + spec_share * sampler_pdf / (Double4(4.0) * cd), p);
+        const Double4 clamped(_mm256_min_pd(_mm256_max_pd(p.v, _mm256_set1_pd(-max_float)), _mm256_set1_pd(max_float)));
+        _mm_storeu_ps(pdf + i, _mm256_cvtpd_ps(simd::select(p == p, clamped, Double4(0.0)).v));
+    }
+    return groups;
+}
+
+}  // namespace npf::batch_detail
+#else
+namespace npf::batch_detail {
+std::size_t pdfs_avx2(const HalfVectorSampler&, double, std::size_t, const double*, const double*, const double*,
+                      const double*, const double*, float*) {
+    return 0;
+}
+}  // namespace npf::batch_detail
+#endif
