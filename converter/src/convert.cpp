@@ -53,12 +53,12 @@ std::string grid_text(const DetailGrid& g) {
 
 // The largest |relative difference| of the model's directional albedo from the source's over the
 // energy views (both at the model's channels).
-void measure_energy_error(const Brdf& source, const NpfModel& model, int threads, ConvertReport& report) {
+void measure_energy_error(const Brdf& source, const NpfModel& model, int samples, int threads, ConvertReport& report) {
     const NpfBrdf converted(model);
     AlbedoTableOptions a;
     a.theta_deg = energy_error_views_deg();
     a.phi_deg = default_albedo_azimuths(model.isotropic() && source.info().isotropic);
-    a.estimator.samples = kEnergyErrorSamples;
+    a.estimator.samples = samples;
     a.threads = threads;
     const std::vector<AlbedoRow> mine = directional_albedo_table(converted, converted.native_query(), a);
     const std::vector<AlbedoRow> theirs = directional_albedo_table(source, source.query(model.channels), a);
@@ -247,6 +247,7 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
         // the five real materials (docs/metrics.md), and its floor says when noise rules.
         s.prediction.size = 64;
         s.prediction.spp = 32;
+        s.energy_error_samples = 96;
     }
     return s;
 }
@@ -365,7 +366,7 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
         report.albedo_max_channel = e.channel;
         report.albedo_unbounded_at_horizon = e.unbounded_at_horizon;
     }
-    measure_energy_error(source, model, o.threads, report);
+    measure_energy_error(source, model, settings.energy_error_samples, o.threads, report);
     report.seconds_error = seconds_since(t);
     if (predictor) {
         // Again for the written model, now with its noise floor (a target's search rendered the

@@ -42,6 +42,11 @@ std::vector<DetailGrid> default_target_ladder();
 DetailGrid parse_detail_grid(const std::string& text, char separator, const std::string& what);
 std::vector<DetailGrid> parse_detail_ladder(const std::string& text, const std::string& what);
 
+// Samples per axis of the energy error's albedo estimator (npf albedo --samples). 64 left a
+// relative standard error of 4 % on a near-black channel (cg_sunflower's blue, albedo 0.03),
+// which read as a 3.0 % error where 160 measure 0.7 %; 160 cost about a second.
+inline constexpr int kEnergyErrorSamples = 160;
+
 struct ConvertSettings {
     // Grid, weights, iterations, threads. The channels and, for isotropic factors, the phi
     // sizes are set by convert_material from the source and the fields below.
@@ -69,6 +74,9 @@ struct ConvertSettings {
     Isotropy isotropy = Isotropy::Auto;
     // Direction pairs of the BRDF-space error measurement (0 skips it).
     int error_pairs = 20000;
+    // Samples per axis of the energy error's albedo estimator (kEnergyErrorSamples above; the
+    // preview preset takes 96, a third of the cost, for a standard error 1.7 times larger).
+    int energy_error_samples = kEnergyErrorSamples;
     ConvertPreset preset = ConvertPreset::Production;
     // Predict the paired-render PSNR of what is written (psnr_prediction.h); its threads follow
     // fit's when 0. Off (--no-predict) saves the renders' time.
@@ -133,10 +141,6 @@ struct ConvertReport {
 // The views (degrees) of the energy error: those the detail fit holds (DetailOptions), 0 to 80;
 // beyond 80 the measured files' own values are extrapolated (docs/fitting.md).
 std::vector<double> energy_error_views_deg();
-// Samples per axis of the energy error's albedo estimator (npf albedo --samples). 64 left a
-// relative standard error of 4 % on a near-black channel (cg_sunflower's blue, albedo 0.03),
-// which read as a 3.0 % error where 160 measure 0.7 %; 160 cost about a second.
-inline constexpr int kEnergyErrorSamples = 160;
 
 // Above this largest directional albedo a conversion is reported as gaining light: 1 plus 1 %,
 // five times the energy check's accuracy (about 2e-3), so that no quadrature error triggers it.
