@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace npf::batch_detail {
 
@@ -35,11 +36,24 @@ struct ValueRequestOfBlock {
     std::size_t count = 0;  // values per pair
 };
 
+// A basis of rank up to 4 cell by cell, four floats per cell ([cell][4], ranks beyond its own 0):
+// what values_avx2 loads a corner's ranks from at once. Empty for a rank above 4.
+std::vector<float> cell_major_of(const SpectralBasis& s);
+
+// The cell-major copies of a model's bases (null where absent: values_avx2 then gathers from
+// the rank-major tables, one lane and rank at a time).
+struct CellMajorBases {
+    const float* d = nullptr;
+    const float* g = nullptr;
+    const float* detail = nullptr;
+};
+
 // Pairs [0, groups * 4) of the block whose angles are `angles` and whose first pair is pair
 // `first` of the batch; valid[j] is 0 for pairs outside the domain (their values are 0). Value k
 // of pair i goes to values[k * n + i]. Returns the number of pairs done (a multiple of 4); the
 // caller shades the rest. Only where vector_values_apply(m) and the CPU has AVX2.
-std::size_t values_avx2(const NpfModel& m, const BlockAngles& angles, std::size_t count, const std::uint8_t* valid,
-                        const ValueRequestOfBlock& request, std::size_t first, float* values, std::size_t n);
+std::size_t values_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAngles& angles, std::size_t count,
+                        const std::uint8_t* valid, const ValueRequestOfBlock& request, std::size_t first, float* values,
+                        std::size_t n);
 
 }  // namespace npf::batch_detail

@@ -38,7 +38,36 @@ Corners4 bilinear4(const LerpOf<Double4>& row, const LerpOf<Double4>& col, int c
     return k;
 }
 
-void project4(const SpectralBasis& s, const Corners4& k, Double4* out) {
+// Ranks 0..3 of cell index[lane] of a cell-major table (cell_major_of) for each lane: one load per
+// lane, then a transpose, so that ranks[r] holds rank r of the four lanes (as gather would).
+void corner_ranks(const float* cells, __m128i index, Double4 ranks[4]) {
+    alignas(16) std::int32_t i[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(i), index);
+    __m128 a = _mm_loadu_ps(cells + 4 * std::size_t(i[0])), b = _mm_loadu_ps(cells + 4 * std::size_t(i[1]));
+    __m128 c = _mm_loadu_ps(cells + 4 * std::size_t(i[2])), d = _mm_loadu_ps(cells + 4 * std::size_t(i[3]));
+    _MM_TRANSPOSE4_PS(a, b, c, d);
+    ranks[0] = Double4(_mm256_cvtps_pd(a));
+    ranks[1] = Double4(_mm256_cvtps_pd(b));
+    ranks[2] = Double4(_mm256_cvtps_pd(c));
+    ranks[3] = Double4(_mm256_cvtps_pd(d));
+}
+
+// The bilinear value of each rank at four pairs: from the cell-major copy where there is one
+// (the same products and sums, so the same bits), else gathered rank by rank.
+void project4(const SpectralBasis& s, const float* cell_major, const Corners4& k, Double4* out) {
+    if (cell_major) {
+        Double4 c0[4], c1[4], c2[4], c3[4];
+        corner_ranks(cell_major, k.index[0], c0);
+        corner_ranks(cell_major, k.index[2], c2);
+        if (k.one_column) {
+            for (int r = 0; r < s.rank; ++r) out[r] = c0[r] * k.weight[0] + c0[r] * k.weight[1] + c2[r] * k.weight[2] + c2[r] * k.weight[3];
+            return;
+        }
+        corner_ranks(cell_major, k.index[1], c1);
+        corner_ranks(cell_major, k.index[3], c3);
+        for (int r = 0; r < s.rank; ++r) out[r] = c0[r] * k.weight[0] + c1[r] * k.weight[1] + c2[r] * k.weight[2] + c3[r] * k.weight[3];
+        return;
+    }
     const float* t = s.basis.data();
     if (k.one_column) {
         for (int r = 0; r < s.rank; ++r, t += s.cells) {
@@ -69,18 +98,18 @@ LerpOf<Double4> g_column(Double4 phi, int g_phi) {
 
 // NpfModel::position for pairs j .. j + 3 of the block; lanes outside the domain (keep false)
 // look up at angles 0 (valid cells; their values are zeroed later).
-void position4(const NpfModel& m, const BlockAngles& a, std::size_t j, __m256d keep, Group& g) {
+void position4(const NpfModel& m, const CellMajorBases& cells, const BlockAngles& a, std::size_t j, __m256d keep, Group& g) {
     auto at = [&](const double* field) { return select_lanes(keep, simd::load4(field + j)); };
     g.cos_o = at(a.cos_o);
     g.inv_cos_product = at(a.inv_cos_product);
     const Double4 u_h = at(a.u_h), theta_d = at(a.theta_d);
-    project4(m.D, bilinear4(equation::d_row_of(u_h, m.d_theta), equation::column_of(at(a.phi_h), m.d_phi), m.d_phi), g.d);
+    project4(m.D, cells.d, bilinear4(equation::d_row_of(u_h, m.d_theta), equation::column_of(at(a.phi_h), m.d_phi), m.d_phi), g.d);
     const LerpOf<Double4> f = equation::f_row_of(theta_d, m.f_theta);
     g.f0 = simd::to_int32(f.i0);
     g.f1 = simd::to_int32(f.i1);
     g.f_t = f.t;
-    project4(m.G, bilinear4(equation::g_row_of(at(a.theta_gi), m.g_theta), g_column(at(a.phi_gi), m.g_phi), m.g_phi), g.g_i);
-    project4(m.G, bilinear4(equation::g_row_of(at(a.theta_go), m.g_theta), g_column(at(a.phi_go), m.g_phi), m.g_phi), g.g_o);
+    project4(m.G, cells.g, bilinear4(equation::g_row_of(at(a.theta_gi), m.g_theta), g_column(at(a.phi_gi), m.g_phi), m.g_phi), g.g_i);
+    project4(m.G, cells.g, bilinear4(equation::g_row_of(at(a.theta_go), m.g_theta), g_column(at(a.phi_go), m.g_phi), m.g_phi), g.g_o);
     if (!m.has_detail()) return;
     const DetailGrid& grid = m.detail_grid;
     LerpOf<Double4> h, d, p;
@@ -92,6 +121,15 @@ void position4(const NpfModel& m, const BlockAngles& a, std::size_t j, __m256d k
     for (int k = 0; k < 8; ++k) {
         const Double4 hi = k & 4 ? h.i1 : h.i0, di = k & 2 ? d.i1 : d.i0, pi = k & 1 ? p.i1 : p.i0;
         index[k] = simd::to_int32((hi * rows + di) * cols + pi);
+    }
+    if (cells.detail) {  // corner by corner, each rank's sum in the same order as below
+        for (int r = 0; r < m.detail.rank; ++r) g.r[r] = Double4(0.0);
+        for (int k = 0; k < 8; ++k) {
+            Double4 c[4];
+            corner_ranks(cells.detail, index[k], c);
+            for (int r = 0; r < m.detail.rank; ++r) g.r[r] = g.r[r] + c[r] * weight[k];
+        }
+        return;
     }
     const float* b = m.detail.basis.data();
     for (int r = 0; r < m.detail.rank; ++r, b += m.detail.cells) {
@@ -149,8 +187,9 @@ void store4(Double4 v, Double4 cos_light, __m256d keep, float* out) {
 
 }  // namespace
 
-std::size_t values_avx2(const NpfModel& m, const BlockAngles& angles, std::size_t count, const std::uint8_t* valid,
-                        const ValueRequestOfBlock& request, std::size_t first, float* values, std::size_t n) {
+std::size_t values_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAngles& angles, std::size_t count,
+                        const std::uint8_t* valid, const ValueRequestOfBlock& request, std::size_t first, float* values,
+                        std::size_t n) {
     Group g;
     std::size_t j = 0;
     for (; j + 4 <= count; j += 4) {
@@ -162,7 +201,7 @@ std::size_t values_avx2(const NpfModel& m, const BlockAngles& angles, std::size_
             for (std::size_t k = 0; k < request.count; ++k) _mm_storeu_ps(out + k * n, _mm_setzero_ps());
             continue;
         }
-        position4(m, angles, j, keep, g);
+        position4(m, cells, angles, j, keep, g);
         if (request.stored) {
             for (std::size_t k = 0; k < request.count; ++k) store4(value4(m, g, SameChannel{k}), g.cos_o, keep, out + k * n);
             continue;
@@ -195,8 +234,8 @@ std::size_t values_avx2(const NpfModel& m, const BlockAngles& angles, std::size_
 
 namespace npf::batch_detail {
 
-std::size_t values_avx2(const NpfModel&, const BlockAngles&, std::size_t, const std::uint8_t*, const ValueRequestOfBlock&,
-                        std::size_t, float*, std::size_t) {
+std::size_t values_avx2(const NpfModel&, const CellMajorBases&, const BlockAngles&, std::size_t, const std::uint8_t*,
+                        const ValueRequestOfBlock&, std::size_t, float*, std::size_t) {
     return 0;  // no vector path in this build: the caller shades every pair
 }
 

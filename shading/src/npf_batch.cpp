@@ -38,6 +38,18 @@ struct BlockPointers {
 
 }  // namespace
 
+namespace batch_detail {
+
+std::vector<float> cell_major_of(const SpectralBasis& s) {
+    if (s.rank < 1 || s.rank > 4) return {};
+    std::vector<float> out(s.cells * 4, 0.f);
+    for (int r = 0; r < s.rank; ++r)
+        for (std::size_t c = 0; c < s.cells; ++c) out[c * 4 + std::size_t(r)] = s.basis[std::size_t(r) * s.cells + c];
+    return out;
+}
+
+}  // namespace batch_detail
+
 void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const DirectionArrays& light,
                             BatchWavelengths wavelengths, float* values, float* pdf) const {
     const std::size_t count = value_count(wavelengths);
@@ -66,6 +78,9 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
     const bool avx2 = simd_isa() == SimdIsa::Avx2;
     const bool vector_values = avx2 && batch_detail::vector_values_apply(m_model);
     const batch_detail::ValueRequestOfBlock block_request{stored, wavelengths, &m_wavelengths, count};
+    auto data_or_null = [](const std::vector<float>& v) { return v.empty() ? nullptr : v.data(); };
+    const batch_detail::CellMajorBases cell_major{data_or_null(m_cell_major_d), data_or_null(m_cell_major_g),
+                                                  data_or_null(m_cell_major_detail)};
     const AngleNeeds needs = m_model.angle_needs();
     batch_detail::BlockAngles angles;
     std::uint8_t valid[kBlock];
@@ -80,7 +95,8 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
         }
         for (std::size_t j = 0; j < m; ++j) valid[j] = in_domain(view, light, b + j);
         // The values of whole groups of four pairs by vector code, the rest pair by pair.
-        const std::size_t done = vector_values ? batch_detail::values_avx2(m_model, angles, m, valid, block_request, b, values, n) : 0;
+        const std::size_t done =
+            vector_values ? batch_detail::values_avx2(m_model, cell_major, angles, m, valid, block_request, b, values, n) : 0;
         const std::size_t pdf_done = pdf && avx2 ? batch_detail::pdfs_avx2(m_sampler, m_diffuse_probability, m, angles.theta_h,
                                                                            angles.u_h, angles.phi_h, angles.cos_d,
                                                                            angles.cos_o, pdf + b)

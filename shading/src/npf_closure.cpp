@@ -1,5 +1,7 @@
 #include <npf/shading/npf_closure.h>
 
+#include "batch_values.h"
+
 #include "finite_float.h"
 
 #include "luminance.h"
@@ -105,6 +107,11 @@ NpfClosure::~NpfClosure() = default;
 
 void NpfClosure::finish_construction() {
     if (!m_model.channels.is_rgb()) m_wavelengths = WavelengthLocator(m_model.channels.wavelengths());
+    if (!m_texture) {
+        m_cell_major_d = batch_detail::cell_major_of(m_model.D);
+        m_cell_major_g = batch_detail::cell_major_of(m_model.G);
+        m_cell_major_detail = batch_detail::cell_major_of(m_model.detail);
+    }
     try {
         m_sampler = HalfVectorSampler(HalfVectorSampler::luminance_averaged_ndf(m_model), m_model.d_theta,
                                       m_model.d_phi);

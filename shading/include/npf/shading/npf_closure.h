@@ -130,6 +130,10 @@ private:
     HalfVectorSampler m_sampler;
     WavelengthLocator m_wavelengths;  // the stored grid (spectral materials)
     double m_diffuse_probability = 0.0;
+    // D's, G's and the detail layer's bases again, cell by cell (four floats per cell: ranks up to
+    // 4), so that the batched eval's vector lookups load a corner's ranks at once; empty where a
+    // rank is above 4 and on the texture path.
+    std::vector<float> m_cell_major_d, m_cell_major_g, m_cell_major_detail;
 };
 
 }  // namespace npf
