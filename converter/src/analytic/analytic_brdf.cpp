@@ -263,8 +263,7 @@ void AnalyticBrdf::accumulate(const Vec3& wi, const Vec3& wo, const SpectralTabl
             for (std::size_t j0 = 0; j0 < n; j0 += kSpectralChunk) {
                 const std::size_t len = std::min(kSpectralChunk, n - j0);
                 double f[kSpectralChunk];
-                if (one) std::fill(f, f + len, 1.0);
-                else lobe.fresnel.eval(cd, fc + j0, len, f);
+                lobe.fresnel.eval(cd, fc + j0, len, f);
                 for (std::size_t j = 0; j < len; ++j) acc[j0 + j] += Acc(geo * w[j0 + j] * f[j]);
             }
         } else {

@@ -5,6 +5,7 @@
 
 #include "fresnel_avx2.h"
 
+#include <npf/core/clamp.h>
 #include <npf/core/error.h>
 #include <npf/core/simd_isa.h>
 #include <npf/core/vec.h>
@@ -21,7 +22,7 @@ namespace {
 
 using Complex = std::complex<double>;
 
-double clamp01(double v) { return v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0; }
+double clamp01(double v) { return clamp_range(v, 0.0, 1.0); }
 
 // Air -> real index eta. For eta < 1 total internal reflection gives 1 past the critical
 // angle; from air into any denser medium (eta >= 1) it cannot happen.

@@ -3,6 +3,8 @@
 #include "fresnel_avx2.h"
 
 #if defined(__AVX2__)
+#include <npf/core/clamp.h>
+
 #include <cmath>
 #include <limits>
 

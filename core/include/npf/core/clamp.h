@@ -7,5 +7,7 @@ namespace npf {
 
 inline float clamp_low(float v, float lo) { return v > lo ? v : lo; }
 inline float clamp_range(float v, float lo, float hi) { return v > lo ? (v < hi ? v : hi) : lo; }
+inline double clamp_low(double v, double lo) { return v > lo ? v : lo; }
+inline double clamp_range(double v, double lo, double hi) { return v > lo ? (v < hi ? v : hi) : lo; }
 
 }  // namespace npf
