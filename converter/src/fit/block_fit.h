@@ -102,6 +102,7 @@ private:
     std::vector<double> m_cell;        // per D cell: [3][L] sums of the D update
     std::vector<std::vector<float>> m_g_acc;  // per slice: [2][g_cells][L]
     std::vector<float> m_g_ref;               // G that the fit's gauge is pinned to
+    std::vector<float> m_g_anchor;            // the pin of every warm block: the first warm start's G
     std::vector<std::vector<double>> m_f_acc; // per slice: [2][f_cells][L]
     bool m_trace = false;                     // NPF_AWLS_TRACE: print the error per sweep and lane
 };
