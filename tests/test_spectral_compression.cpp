@@ -6,6 +6,7 @@
 #include <npf/converter/fit/spectral_compression.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_brdf.h>
+#include <npf/shading/detail_grid.h>
 
 #include <gtest/gtest.h>
 
@@ -236,6 +237,44 @@ TEST(NpfModel, LargeRanksEvaluateAlike) {
 }
 
 // At low rank a reconstructed table may dip below zero; evaluation clamps D and G at 0.
+// values() (every channel of a prepared pair, in vectorised blocks) is value() to the bit, on the
+// cached and the direct lookups, with a detail layer (clamp included) and without; its `base` is the
+// value of the same model without the layer. 150 channels: blocks of 64 and a partial one.
+TEST(NpfModel, AllChannelsAtOnceAreEachChannelsValue) {
+    NpfFactors f = make_test_factors({true, 150, true, 6});
+    CompressionOptions rank_three;
+    rank_three.d_rank = rank_three.g_rank = 3;
+    const NpfModel plain = npf::compress_factors(f, rank_three);
+    NpfModel detailed = plain;
+    const npf::DetailGrid grid{5, 4, 6};
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> residual(-0.4f, 0.3f);  // model + residual below 0 in places
+    std::vector<float> tables(f.channel_count() * grid.cells());
+    for (float& v : tables) v = residual(rng);
+    detailed.detail_grid = grid;
+    detailed.detail = npf::compress_tables(tables, f.channel_count(), grid.cells(), 1.0, 4);
+    const std::size_t C = f.channel_count();
+    std::vector<double> all(C), base(C);
+    int clamped = 0;
+    for (int n = 0; n < 200; ++n) {
+        const Vec3 wi = random_direction(rng), wo = random_direction(rng);
+        for (const NpfModel* m : {&plain, static_cast<const NpfModel*>(&detailed)}) {
+            for (bool project : {true, false}) {
+                NpfModel::Lookup at, at_plain;
+                ASSERT_TRUE(m->prepare(wi, wo, at, project));
+                ASSERT_TRUE(plain.prepare(wi, wo, at_plain, project));
+                m->values(at, all.data(), base.data());
+                for (std::size_t c = 0; c < C; ++c) {
+                    ASSERT_EQ(all[c], m->value(at, c)) << "channel " << c << (project ? ", cached" : ", direct");
+                    ASSERT_EQ(base[c], plain.value(at_plain, c)) << "channel " << c;
+                    clamped += m == &detailed && all[c] == 0.0 && base[c] > 0.0;
+                }
+            }
+        }
+    }
+    EXPECT_GT(clamped, 0);  // the layer's clamp at 0 was exercised
+}
+
 TEST(NpfModel, ReconstructionIsClampedAtZero) {
     NpfFactors f = make_test_factors({false, 3, false, 2});
     NpfModel m = npf::compress_factors(f, CompressionOptions());

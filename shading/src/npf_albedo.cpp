@@ -24,6 +24,7 @@ std::vector<double> npf_directional_albedo(const NpfModel& model, const Vec3& wi
         cos_phi[j] = std::cos(phi);
         sin_phi[j] = std::sin(phi);
     }
+    std::vector<double> values(C);
     NpfModel::Lookup at;
     for (int i = 0; i < nu; ++i) {
         const double u = (i + 0.5) * du, theta = equation::theta_h_of_u(u), st = std::sin(theta), ct = std::cos(theta);
@@ -37,7 +38,8 @@ std::vector<double> npf_directional_albedo(const NpfModel& model, const Vec3& wi
             const Vec3 wo{float(ox), float(oy), float(oz)};
             if (!model.prepare(wi, normalize(wo), at)) continue;
             const double weight = oz * 4.0 * d * solid;
-            for (std::size_t c = 0; c < C; ++c) spec[c] += (model.value(at, c) - model.rho_d[c]) * weight;
+            model.values(at, values.data());
+            for (std::size_t c = 0; c < C; ++c) spec[c] += (values[c] - model.rho_d[c]) * weight;
         }
     }
     for (std::size_t c = 0; c < C; ++c) a[c] = kPiD * model.rho_d[c] + spec[c];

@@ -281,15 +281,69 @@ void NpfModel::position(const PairAngles& a, Lookup& at, bool project_bases) con
     }
 }
 
-double NpfModel::value_uncached(const Lookup& at, std::size_t c) const {
-    const double d = combine_direct(D, c, at.d);
-    const double gi = combine_direct(G, c, at.g_i);
-    const double go = combine_direct(G, c, at.g_o);
-    const float* f = F.data() + c * std::size_t(f_theta);
+namespace {
+
+// Channel c's value without the detail layer, the tables combined corner by corner.
+double base_uncached(const NpfModel& m, const NpfModel::Lookup& at, std::size_t c) {
+    const double d = combine_direct(m.D, c, at.d);
+    const double gi = combine_direct(m.G, c, at.g_i);
+    const double go = combine_direct(m.G, c, at.g_o);
+    const float* f = m.F.data() + c * std::size_t(m.f_theta);
     const double fv = f[at.f0] * (1 - at.f_t) + f[at.f1] * at.f_t;
-    const double base = equation::value(rho_d[c], rho_s[c], d, fv, gi, go, at.inv_cos_product);
+    return equation::value(m.rho_d[c], m.rho_s[c], d, fv, gi, go, at.inv_cos_product);
+}
+
+}  // namespace
+
+double NpfModel::value_uncached(const Lookup& at, std::size_t c) const {
+    const double base = base_uncached(*this, at, c);
     if (detail.rank == 0) return base;
     return equation::with_detail(base, combine_detail(detail, c, at.r));
+}
+
+void NpfModel::values(const Lookup& at, double* out, double* base) const {
+    const std::size_t C = channel_count();
+    if (!at.cached) {
+        for (std::size_t c = 0; c < C; ++c) {
+            const double v = base_uncached(*this, at, c);
+            if (base) base[c] = v;
+            out[c] = detail.rank == 0 ? v : equation::with_detail(v, combine_detail(detail, c, at.r));
+        }
+        return;
+    }
+    // value()'s sums term for term, a block of channels at a time, the channel loops innermost.
+    // The first term is added to 0.0 as value() does (-0.0 becomes 0.0), not stored over a
+    // zeroed array: zeroing four arrays per block compiled to memset calls, a quarter of the time.
+    constexpr std::size_t kBlock = 64;
+    const double one_minus_t = 1 - at.f_t;
+    const auto combine = [](const SpectralBasis& s, std::size_t c0, std::size_t n, const double* basis, double* sums) {
+        const std::size_t rank = std::size_t(s.rank);
+        const float* w = s.weights.data() + c0 * rank;
+        if (rank == 0) {
+            for (std::size_t j = 0; j < n; ++j) sums[j] = 0.0;
+            return;
+        }
+        for (std::size_t j = 0; j < n; ++j) sums[j] = 0.0 + w[j * rank] * basis[0];
+        for (std::size_t k = 1; k < rank; ++k) {
+            for (std::size_t j = 0; j < n; ++j) sums[j] += w[j * rank + k] * basis[k];
+        }
+    };
+    for (std::size_t c0 = 0; c0 < C; c0 += kBlock) {
+        const std::size_t n = std::min(kBlock, C - c0);
+        double d[kBlock], gi[kBlock], go[kBlock], r[kBlock];
+        combine(D, c0, n, at.d_basis, d);
+        combine(G, c0, n, at.g_i_basis, gi);
+        combine(G, c0, n, at.g_o_basis, go);
+        if (detail.rank > 0) combine(detail, c0, n, at.r_basis, r);
+        const float* f = F.data() + c0 * std::size_t(f_theta);
+        for (std::size_t j = 0; j < n; ++j) {
+            const float* fc = f + j * std::size_t(f_theta);
+            const double fv = fc[at.f0] * one_minus_t + fc[at.f1] * at.f_t;
+            const double v = equation::value(rho_d[c0 + j], rho_s[c0 + j], d[j], fv, gi[j], go[j], at.inv_cos_product);
+            if (base) base[c0 + j] = v;
+            out[c0 + j] = detail.rank == 0 ? v : equation::with_detail(v, r[j]);
+        }
+    }
 }
 
 void NpfModel::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {
@@ -299,7 +353,7 @@ void NpfModel::eval_all(const Vec3& wi, const Vec3& wo, double* out) const {
         std::fill(out, out + C, 0.0);
         return;
     }
-    for (std::size_t c = 0; c < C; ++c) out[c] = value(at, c);
+    values(at, out);
 }
 
 double NpfModel::eval(std::size_t c, const Vec3& wi, const Vec3& wo) const {

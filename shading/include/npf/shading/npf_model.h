@@ -156,6 +156,10 @@ struct NpfModel {
     bool half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const;
     // f_r of stored channel c at a prepared pair. Inline: a renderer calls it per channel.
     double value(const Lookup& at, std::size_t c) const;
+    // value(at, c) of every stored channel into out[c], to the bit, in blocks of channels whose
+    // arithmetic vectorises (a spectral model's 195 channels one by one were most of an albedo
+    // quadrature's time). `base`, when not null, gets the values without the detail layer.
+    void values(const Lookup& at, double* out, double* base = nullptr) const;
     // f_r of every stored channel (channel_count() values); 0 below the horizon.
     void eval_all(const Vec3& wi, const Vec3& wo, double* out) const;
     double eval(std::size_t c, const Vec3& wi, const Vec3& wo) const;
