@@ -111,10 +111,17 @@ void NormalOperator::apply(const std::vector<double>& x, std::vector<double>& y)
     for (std::size_t v = 0; v < rows->size(); ++v) {
         if (!(row_weight[v] > 0.0)) continue;
         const std::vector<double>& a = (*rows)[v];
-        double dot = 0.0;
-        for (std::size_t i = 0; i < cells; ++i) dot += a[i] * x[i];
-        dot *= row_weight[v];
-        for (std::size_t i = 0; i < cells; ++i) y[i] += a[i] * dot;
+        // Four partial sums in a fixed order: one running sum waited on each addition's latency,
+        // and these dot products (44 energy rows of a spectral material per apply) were most of
+        // the solves' time.
+        double part[4] = {0.0, 0.0, 0.0, 0.0};
+        std::size_t i = 0;
+        for (; i + 4 <= cells; i += 4) {
+            for (std::size_t k = 0; k < 4; ++k) part[k] += a[i + k] * x[i + k];
+        }
+        for (; i < cells; ++i) part[0] += a[i] * x[i];
+        const double dot = ((part[0] + part[1]) + (part[2] + part[3])) * row_weight[v];
+        for (i = 0; i < cells; ++i) y[i] += a[i] * dot;
     }
 }
 
