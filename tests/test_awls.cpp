@@ -147,19 +147,33 @@ TEST(Awls, ConvergesFasterWithExtrapolation) {
 // while the error's float rounding, ~1e-5, made the line search accept and reject at random).
 // A small spectral copy of the recipe (16 wavelengths, one block, the production tolerance and
 // cap) must stop by its tolerance, and at an error no higher than the capped fit's.
-TEST(Awls, SpectralCopperStopsByItsTolerance) {
-    const std::unique_ptr<npf::Brdf> source = npf::open_material(std::string(NPF_SOURCE_DIR) + "/configs/materials/brushed_copper.yaml");
-    const std::vector<float>& all = source->info().channels.wavelengths();
+// A small copy of the brushed copper recipe: `count` of its wavelengths spread over its range, on
+// a 24 x 32 x 24 x 32 grid, the production tolerance and cap.
+struct SmallCopper {
+    std::unique_ptr<npf::Brdf> source;
     std::vector<float> wl;
-    for (std::size_t k = 0; k < 16; ++k) wl.push_back(all[k * (all.size() - 1) / 15]);
     npf::AwlsOptions o;
-    o.grid = {24, 32, 24, 32};
-    o.g_theta = 24;
-    o.g_phi = 32;
-    o.phi_d_samples = 8;
-    o.channels = npf::Channels::spectral(wl);
-    o.max_iterations = 200;  // the production preset
-    o.tolerance = 1e-5;
+};
+SmallCopper small_copper(std::size_t count, int phi_d_samples) {
+    SmallCopper c;
+    c.source = npf::open_material(std::string(NPF_SOURCE_DIR) + "/configs/materials/brushed_copper.yaml");
+    const std::vector<float>& all = c.source->info().channels.wavelengths();
+    for (std::size_t k = 0; k < count; ++k) c.wl.push_back(all[k * (all.size() - 1) / (count - 1)]);
+    c.o.grid = {24, 32, 24, 32};
+    c.o.g_theta = 24;
+    c.o.g_phi = 32;
+    c.o.phi_d_samples = phi_d_samples;
+    c.o.channels = npf::Channels::spectral(c.wl);
+    c.o.max_iterations = 200;
+    c.o.tolerance = 1e-5;
+    return c;
+}
+
+TEST(Awls, SpectralCopperStopsByItsTolerance) {
+    SmallCopper copper = small_copper(16, 8);
+    const npf::Brdf* source = copper.source.get();
+    const std::vector<float>& wl = copper.wl;
+    npf::AwlsOptions& o = copper.o;
     npf::AwlsReport r, capped;
     npf::fit_npf(*source, o, &r);
     o.tolerance = 0.0;
@@ -179,18 +193,10 @@ TEST(Awls, SpectralCopperStopsByItsTolerance) {
 // recipe, 64 wavelengths in four blocks: G of every channel within a few per cent of the anchor's,
 // and the blocks after the first warm one done in a few sweeps.
 TEST(Awls, LaterBlocksArePinnedToTheColdBlocksG) {
-    const std::unique_ptr<npf::Brdf> source = npf::open_material(std::string(NPF_SOURCE_DIR) + "/configs/materials/brushed_copper.yaml");
-    const std::vector<float>& all = source->info().channels.wavelengths();
-    std::vector<float> wl;
-    for (std::size_t k = 0; k < 64; ++k) wl.push_back(all[k * (all.size() - 1) / 63]);
-    npf::AwlsOptions o;
-    o.grid = {24, 32, 24, 32};
-    o.g_theta = 24;
-    o.g_phi = 32;
-    o.phi_d_samples = 4;
-    o.channels = npf::Channels::spectral(wl);
-    o.max_iterations = 200;  // the production preset
-    o.tolerance = 1e-5;
+    const SmallCopper copper = small_copper(64, 4);
+    const npf::Brdf* source = copper.source.get();
+    const std::vector<float>& wl = copper.wl;
+    const npf::AwlsOptions& o = copper.o;
     npf::AwlsReport r;
     const npf::NpfFactors f = npf::fit_npf(*source, o, &r);
     ASSERT_TRUE(all_finite(f));
