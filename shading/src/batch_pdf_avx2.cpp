@@ -7,8 +7,6 @@
 #if defined(__AVX2__)
 #include "simd_double4.h"
 
-#include <limits>
-
 namespace npf::batch_detail {
 
 namespace {
@@ -34,7 +32,6 @@ std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probabili
     const double* inv_solid_angle = sampler.inv_solid_angle().data();
     const int rows = sampler.theta_cells(), columns = sampler.phi_cells();
     const Double4 pd(diffuse_probability), spec_share(1.0 - diffuse_probability);
-    const double max_float = std::numeric_limits<float>::max();
     const std::size_t groups = n - n % 4;
     for (std::size_t i = 0; i < groups; i += 4) {
         const Double4 theta = simd::load4(theta_h + i), u = simd::load4(u_h + i), phi = simd::load4(phi_h + i);
@@ -54,8 +51,7 @@ std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probabili
         // pdf_at: the mixture with the cosine strategy, then finite_float.
         Double4 p = pd * simd::load4(cos_light + i) * Double4(1.0 / kPiD);
         p = simd::select(cd > Double4(0.0), p + spec_share * sampler_pdf / (Double4(4.0) * cd), p);
-        const Double4 clamped(_mm256_min_pd(_mm256_max_pd(p.v, _mm256_set1_pd(-max_float)), _mm256_set1_pd(max_float)));
-        _mm_storeu_ps(pdf + i, _mm256_cvtpd_ps(simd::select(p == p, clamped, Double4(0.0)).v));
+        _mm_storeu_ps(pdf + i, _mm256_cvtpd_ps(simd::finite_float_of(p).v));
     }
     return groups;
 }

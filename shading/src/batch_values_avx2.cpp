@@ -9,8 +9,6 @@
 
 #include <npf/shading/npf_equation.h>
 
-#include <limits>
-
 namespace npf::batch_detail {
 
 namespace {
@@ -177,12 +175,8 @@ Double4 value4(const NpfModel& m, const Group& g, const Channel& c) {
 
 // NpfClosure::write_values' last step: finite_float(max(0, v) cos_light), then 0 outside the domain.
 void store4(Double4 v, Double4 cos_light, __m256d keep, float* out) {
-    using simd::select;
-    constexpr double kMax = std::numeric_limits<float>::max();
-    v = select(Double4(0.0) < v, v, Double4(0.0)) * cos_light;
-    v = select(v < Double4(-kMax), Double4(-kMax), select(Double4(kMax) < v, Double4(kMax), v));
-    v = select(v == v, v, Double4(0.0));
-    _mm_storeu_ps(out, _mm256_cvtpd_ps(select_lanes(keep, v).v));
+    v = simd::select(Double4(0.0) < v, v, Double4(0.0)) * cos_light;
+    _mm_storeu_ps(out, _mm256_cvtpd_ps(select_lanes(keep, simd::finite_float_of(v)).v));
 }
 
 }  // namespace

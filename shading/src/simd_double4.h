@@ -7,6 +7,8 @@
 
 #include <immintrin.h>
 
+#include <limits>
+
 namespace npf::simd {
 
 struct Mask4 {
@@ -57,6 +59,14 @@ inline Double4 gather(const float* table, __m128i index) {
 inline Double4 floor_of(Double4 a) { return floor(a); }
 inline Double4 quadrant_pick(Double4 q, Double4 a0, Double4 a1, Double4 a2, Double4 a3) {
     return select(q == Double4(0.0), a0, select(q == Double4(1.0), a1, select(q == Double4(2.0), a2, a3)));
+}
+
+// finite_float's steps (finite_float.h) on four lanes, before the conversion to float: clamped to
+// float's range, NaN to 0.
+inline Double4 finite_float_of(Double4 v) {
+    constexpr double kMax = std::numeric_limits<float>::max();
+    const Double4 clamped = select(v < Double4(-kMax), Double4(-kMax), select(Double4(kMax) < v, Double4(kMax), v));
+    return select(v == v, clamped, Double4(0.0));
 }
 
 inline Double4 load4(const double* p) { return Double4(_mm256_loadu_pd(p)); }
