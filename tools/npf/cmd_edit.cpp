@@ -8,16 +8,11 @@
 
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
-#include <npf/edit/edit_kinds.h>
-#include <npf/edit/recipe.h>
+#include <npf/edit/edit_request.h>
 #include <npf/shading/npf_texture_file.h>
 
-#include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <memory>
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,22 +21,15 @@ namespace npf::cli {
 
 namespace {
 
-// The edit flags come from the edit kinds (edit_kinds.h), between the command's own.
+// The edit flags (edit_request.h), between the command's own.
 const std::vector<FlagSpec>& edit_flags() {
     static const std::vector<FlagSpec> flags = [] {
         std::vector<FlagSpec> f = {
             {"-o", true, "output factor texture (.exr); required unless --dry-run"},
             {"--recipe", true, "YAML recipe: a list of steps applied in order (configs/edits/)"},
         };
-        for (const edit::EditKind& kind : edit::edit_kinds()) {
-            for (const edit::EditFlag& e : kind.flags) f.push_back({e.name, e.takes_value, e.help});
-        }
+        for (const edit::EditRunFlag& e : edit::edit_run_flags()) f.push_back({e.name, e.takes_value, e.help});
         f.insert(f.end(), {
-            {"--phi-cells", true, "azimuth cells of D and G when an isotropic material becomes anisotropic (default 2 x theta)"},
-            {"--svd", true, "rank (default: keep the input's SVD ranks) or ratio (the input's kept ratio)"},
-            {"--albedo-tolerance", true, "warn when the directional albedo exceeds 1 + this (default 0.005)"},
-            {"--no-albedo-check", false, "skip the directional-albedo check after each step"},
-            {"--description", true, "the edited material's description"},
             {"--dry-run", false, "apply and report, write nothing"},
             {"--help", false, "show this help"},
         });
@@ -50,18 +38,8 @@ const std::vector<FlagSpec>& edit_flags() {
     return flags;
 }
 
-// Edits work on fitted materials only: any other material (a measurement, a recipe), which
-// `npf convert` takes, is refused by name before any work. A file that is missing, not regular,
-// too short or an OpenEXR file is left to the NPF reader, whose messages say more.
-void require_npf_texture(const std::string& path, const std::string& origin) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) return;
-    std::ifstream in(path, std::ios::binary);
-    unsigned char head[4] = {};
-    if (!in.read(reinterpret_cast<char*>(head), sizeof head) || has_exr_magic(head, sizeof head)) return;
-    const Error e(path, "not an NPF factor texture; npf edit works on fitted materials (convert it first: npf convert)");
-    if (origin.empty()) throw e;
-    throw Error(origin, e.what());  // as apply_edits names a step's errors
+bool is_command_flag(const std::string& flag) {
+    return flag == "-o" || flag == "--recipe" || flag == "--dry-run" || flag == "--help";
 }
 
 }  // namespace
@@ -88,43 +66,14 @@ int run_edit(const std::vector<std::string>& args) {
     const std::string input = cl.positional()[0], output = cl.value("-o");
 
     // Everything that can fail on the command line fails before any work.
-    edit::EditRecipe recipe;
-    if (cl.has("--recipe")) recipe = edit::load_edit_recipe(cl.value("--recipe"));
-    edit::EditOptions options = recipe.options;
-    const edit::EditKinds& kinds = edit::edit_kinds();
-    edit::GivenFlags given;
-    for (const auto& [flag, value] : cl.flags_in_order()) given[flag] = value;
-    edit::check_edit_settings(kinds, given);
-    std::vector<edit::EditStep> steps = recipe.steps;
+    std::vector<std::pair<std::string, std::string>> given;
     for (const auto& [flag, value] : cl.flags_in_order()) {
-        if (std::optional<edit::EditStep> s = edit::edit_step_from_flag(kinds, flag, value, given)) steps.push_back(std::move(*s));
+        if (!is_command_flag(flag)) given.emplace_back(flag, value);
     }
-    if (cl.has("--phi-cells")) {
-        const double v = edit::flag_number("--phi-cells", cl.value("--phi-cells"));
-        if (v != std::floor(v) || v < 0 || v > 4096) throw Error("--phi-cells", "expects a whole number in [0, 4096]");
-        options.ndf.phi_cells = int(v);
-    }
-    if (cl.has("--svd")) {
-        const std::string v = cl.value("--svd");
-        if (v == "rank") options.ndf.recompress = edit::Recompress::KeepRank;
-        else if (v == "ratio") options.ndf.recompress = edit::Recompress::KeptRatio;
-        else throw Error("--svd", "'" + v + "' is not rank or ratio");
-    }
-    if (cl.has("--albedo-tolerance")) {
-        options.albedo_tolerance = edit::flag_number("--albedo-tolerance", cl.value("--albedo-tolerance"));
-        if (options.albedo_tolerance < 0.0) throw Error("--albedo-tolerance", "must not be negative");
-    }
-    if (cl.has("--no-albedo-check")) options.check_albedo = false;
-    if (cl.has("--description")) options.description = cl.value("--description");
-    if (steps.empty() && !cl.has("--recipe")) {
-        throw Error("edit", "no edits given (flags or --recipe; configs/edits/identity.yaml is the identity)");
-    }
-
-    require_npf_texture(input, "");
-    for (const edit::EditStep& s : steps) {
-        if (s.kind == edit::EditStep::Kind::DiffuseMaterial || s.kind == edit::EditStep::Kind::SpecularMaterial)
-            require_npf_texture(s.path, s.origin);
-    }
+    edit::EditRequest request = edit::edit_request(cl.has("--recipe") ? cl.value("--recipe") : std::string(), given);
+    const std::vector<edit::EditStep>& steps = request.steps;
+    edit::EditOptions& options = request.options;
+    edit::require_npf_textures(input, request);
     if (!dry) check_output_path(output);  // a destination that cannot be written fails now, not after the edits
     const NpfModel model = read_npf_texture(input);
     std::printf("%s: %s, %zu %s, D %d x %d, G %d x %d; %zu step%s\n", input.c_str(), model.isotropic() ? "isotropic" : "anisotropic",

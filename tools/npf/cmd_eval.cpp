@@ -138,15 +138,10 @@ int run_eval(const std::vector<std::string>& args) {
         double v[6];
         std::string why;
         if (!parse_pair(line, v, why)) throw Error(dirs_name + ":" + std::to_string(line_no), why);
-        // hypot, not sqrt of a sum of squares: components of 1e308 (or 1e-310) are a direction
-        // like any other, and their squares would overflow (or vanish).
-        const double li = std::hypot(v[0], v[1], v[2]);
-        const double lo = std::hypot(v[3], v[4], v[5]);
-        if (!(li > 0.0) || !(lo > 0.0)) {
+        Vec3 wi, wo;  // parse_pair let only finite numbers through
+        if (!unit_direction(v[0], v[1], v[2], wi) || !unit_direction(v[3], v[4], v[5], wo)) {
             throw Error(dirs_name + ":" + std::to_string(line_no), "a direction of zero length");
         }
-        const Vec3 wi(float(v[0] / li), float(v[1] / li), float(v[2] / li));
-        const Vec3 wo(float(v[3] / lo), float(v[4] / lo), float(v[5] / lo));
         brdf->eval_cos(wi, wo, query, values.data());
         if (json) out += first_row ? "\n  {\"values\": [" : ",\n  {\"values\": [";
         first_row = false;

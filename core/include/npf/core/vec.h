@@ -33,6 +33,18 @@ inline Vec3 normalize(const Vec3& a) {
     return {a.x / l, a.y / l, a.z / l};
 }
 
+// A direction given in double (a file, a numpy array) as a unit float vector, the one way npf
+// reads directions from callers (npf eval, the Python package): the length by hypot, not the
+// root of a sum of squares, so that components of 1e308 (or 1e-310) are a direction like any
+// other, whose squares would overflow (or vanish); then a division per component. False for a
+// direction of zero length or with a NaN component.
+inline bool unit_direction(double x, double y, double z, Vec3& out) {
+    const double l = std::hypot(x, y, z);
+    if (!(l > 0.0)) return false;
+    out = Vec3(float(x / l), float(y / l), float(z / l));
+    return true;
+}
+
 // Angle between w and the normal (0,0,1). acos(w.z) loses all precision near the normal;
 // 2 asin(|w - n| / 2) does not (it is what the RGL reference readers use). Expects |w| = 1.
 inline float elevation(const Vec3& w) {
