@@ -9,6 +9,7 @@
 
 #include <npf/core/cosine_sampling.h>
 #include <npf/core/error.h>
+#include <npf/core/float_environment.h>
 #include <npf/shading/npf_texture_file.h>
 #include <npf/shading/table_interpolation.h>
 
@@ -83,11 +84,13 @@ double detail_albedo_at_normal(const NpfModel& m, const std::vector<double>& y) 
 }  // namespace
 
 NpfClosure::NpfClosure(NpfModel model) : m_path(Path::Memory), m_model(std::move(model)) {
+    const ExactFloatScope exact;  // the sampler's tables the same in any caller's environment
     m_model.validate("NPF model");
     finish_construction();
 }
 
 NpfClosure::NpfClosure(const std::string& path, Path path_kind, OIIO::TextureSystem* ts) : m_path(path_kind) {
+    const ExactFloatScope exact;  // half-denormal texels must not read as 0 (float_environment.h)
     if (path_kind == Path::Memory) {
         m_model = read_npf_texture(path);
     } else {
@@ -142,6 +145,7 @@ std::size_t NpfClosure::value_count(WavelengthRequest request) const {
 bool NpfClosure::lookup(const Vec3& view, const Vec3& light, NpfModel::Lookup& at) const {
     if (!m_texture) return m_model.prepare(view, light, at);
     if (!m_model.prepare(view, light, at, /*project_bases=*/false)) return false;
+    const ExactFloatScope exact;  // the TextureSystem converts half texels as it reads them
     return m_texture->fill(at);
 }
 
