@@ -7,6 +7,7 @@
 #include "npf_texture_parts.h"
 
 #include <npf/core/error.h>
+#include <npf/core/float_environment.h>
 #include <npf/core/input_file.h>
 #include <npf/core/openexr_header.h>
 #include <npf/core/text.h>
@@ -17,8 +18,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstdlib>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -129,6 +131,12 @@ public:
         const Part* d = find_part(layout::kPartD);
         if (!d) throw Error(m_path, "an OpenEXR file but not an NPF factor texture (it has no part \"D\")");
         read_attributes(d->spec);
+        // What image tools leave of a factor texture when they keep the first part only (maketx
+        // always; oiiotool with an operation but without -a): said as such, not as a missing G.
+        if (m_parts.size() == 1) {
+            throw Error(m_path, "holds only part \"D\" of an NPF factor texture (a single-part copy, as maketx makes): "
+                                "shade the original or convert again (docs/farms.md)");
+        }
         const std::size_t C = m_model.channel_count();
 
         // D and G: rank basis tables over their grids.
@@ -194,6 +202,8 @@ public:
             }
         }
         m_model.validate(m_path);
+        // Last, so that a value a tool made invalid is named as such first.
+        check_tables_checksum(d->spec);
         return std::move(m_model);
     }
 
@@ -374,6 +384,19 @@ private:
         }
     }
 
+    // A file with a checksum must hold exactly the tables npf wrote: image tools keep the
+    // attributes of what they copy but may change its pixels (oiiotool -d half or --compression
+    // pxr24 round them, --colorconvert -a transforms them), and such a copy still passes every
+    // other check. Files written before the checksum have none and are read as they are.
+    void check_tables_checksum(const ImageSpec& d) const {
+        if (!d.find_attribute(layout::kAttrTablesChecksum, TypeDesc::UNKNOWN, true)) return;
+        if (string_attribute(d, layout::kAttrTablesChecksum) != tables_checksum(m_model)) {
+            throw Error(m_path, "its tables do not match its npf:tables_checksum (an image tool changed its pixels: "
+                                "oiiotool -d half, a lossy compression, --colorconvert, ...): shade the original or "
+                                "convert again (docs/farms.md)");
+        }
+    }
+
     // ---- Pixels ------------------------------------------------------------------------------
 
     void check_size(const Part& p, int width, int height) const {
@@ -412,12 +435,21 @@ private:
 
     std::vector<float> read_pixels(const Part& p) const {
         const ImageSpec& s = p.spec;
+        // The writer stores the detail part as half when that is exact, every other part as float:
+        // half elsewhere is an image tool's rounding (oiiotool -d half), caught here also in files
+        // written before npf:tables_checksum.
+        const bool half_written = part_name(p) == layout::kPartDetail;
         for (int c = 0; c < s.nchannels; ++c) {
             const TypeDesc t = s.channelformat(c);
+            const std::string channel =
+                "part " + quoted(part_name(p)) + " channel " + quoted(s.channelnames[std::size_t(c)]);
+            if (t == OIIO::TypeHalf && !half_written) {
+                throw Error(m_path, channel + " stores half pixels, npf writes it as float (an image tool rounded it: "
+                                              "oiiotool -d half, ...): shade the original or convert again "
+                                              "(docs/farms.md)");
+            }
             if (t != OIIO::TypeFloat && t != OIIO::TypeHalf) {
-                throw Error(m_path, "part " + quoted(part_name(p)) + " channel " +
-                                        quoted(s.channelnames[std::size_t(c)]) +
-                                        " stores " + t.c_str() + " pixels; NPF tables are float");
+                throw Error(m_path, channel + " stores " + t.c_str() + " pixels; NPF tables are float");
             }
         }
         std::vector<float> pixels(std::size_t(s.width) * std::size_t(s.height) * std::size_t(s.nchannels));
@@ -477,6 +509,48 @@ bool has_exr_magic(const unsigned char* head, std::size_t size) {
     return head && size >= 4 && head[0] == 0x76 && head[1] == 0x2f && head[2] == 0x31 && head[3] == 0x01;
 }
 
+bool has_tiff_magic(const unsigned char* head, std::size_t size) {
+    if (!head || size < 4) return false;
+    // "II" little-endian or "MM" big-endian, then 42 (TIFF) or 43 (BigTIFF) in that byte order.
+    const bool little = head[0] == 'I' && head[1] == 'I' && (head[2] == 42 || head[2] == 43) && head[3] == 0;
+    const bool big = head[0] == 'M' && head[1] == 'M' && head[2] == 0 && (head[3] == 42 || head[3] == 43);
+    return little || big;
+}
+
+std::string tables_checksum(const NpfModel& m) {
+    std::uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a 64: offset basis and prime
+    const auto add = [&hash](float value) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &value, sizeof bits);
+        for (int byte = 0; byte < 4; ++byte) {
+            hash ^= (bits >> (8 * byte)) & 0xffu;
+            hash *= 0x100000001b3ull;
+        }
+    };
+    const auto add_all = [&add](const std::vector<float>& values) {
+        for (float v : values) add(v);
+    };
+    const std::size_t C = m.channel_count();
+    const auto add_weights = [&](const SpectralBasis& s) {  // channel k of the spectral part: weight k of every c
+        const std::size_t rank = std::size_t(s.rank);
+        for (std::size_t k = 0; k < rank; ++k)
+            for (std::size_t c = 0; c < C; ++c) add(s.weights[c * rank + k]);
+    };
+    add_all(m.D.basis);
+    add_all(m.G.basis);
+    add_all(m.F);
+    for (std::size_t c = 0; c < C; ++c) add(m.channels.is_rgb() ? float(c) : m.channels.wavelengths()[c]);
+    add_all(m.rho_d);
+    add_all(m.rho_s);
+    add_weights(m.D);
+    add_weights(m.G);
+    add_weights(m.detail);
+    add_all(m.detail.basis);
+    char text[32];
+    std::snprintf(text, sizeof text, "fnv1a64:%016llx", static_cast<unsigned long long>(hash));
+    return text;
+}
+
 namespace {
 
 // Checks the OpenEXR headers before OpenEXR and OpenImageIO see them, for two problems fuzzing
@@ -486,6 +560,7 @@ namespace {
 // channel of an unknown pixel type. Refuses an attribute longer than what is left of the file
 // and such a channel. "" when the headers are plausible.
 NpfModel read_with(const std::string& path, std::unique_ptr<PartSource> source) {
+    const ExactFloatScope exact;  // half-denormal texels must not read as 0 (float_environment.h)
     const std::uint64_t size = require_regular_file(path, "an NPF texture (.exr)");
     if (size == 0) throw Error(path, "empty file");
     {
@@ -493,6 +568,10 @@ NpfModel read_with(const std::string& path, std::unique_ptr<PartSource> source) 
         if (!in) throw Error(path, std::string("cannot open: ") + std::strerror(errno));
         unsigned char head[4] = {};
         in.read(reinterpret_cast<char*>(head), sizeof head);
+        if (has_tiff_magic(head, std::size_t(in.gcount()))) {
+            throw Error(path, "not an OpenEXR file but a TIFF (maketx's .tx copies of a factor texture are TIFF "
+                              "and keep only its first part): shade the original .exr (docs/farms.md)");
+        }
         if (!has_exr_magic(head, std::size_t(in.gcount()))) {
             throw Error(path, "not an OpenEXR file (NPF factor textures are OpenEXR images)");
         }
@@ -517,6 +596,13 @@ NpfModel read_npf_texture(const std::string& path) { return read_with(path, std:
 
 NpfModel read_npf_texture(const std::string& path, OIIO::TextureSystem& ts) {
     return read_with(path, std::make_unique<TextureSystemSource>(path, ts));
+}
+
+bool is_npf_texture_or_copy(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    unsigned char head[4] = {};
+    if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return false;
+    return has_exr_magic(head, sizeof head) || has_tiff_magic(head, sizeof head);
 }
 
 bool is_npf_texture(const std::string& path) {

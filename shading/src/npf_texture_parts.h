@@ -32,6 +32,13 @@ public:
     virtual bool read(const NpfTexturePart& p, float* pixels, std::string& why) = 0;
 };
 
+// The value of npf:tables_checksum for `model` (docs/format.md sec. 4): "fnv1a64:" and 16 lowercase
+// hex digits, FNV-1a (64 bits) over every value the parts hold, part by part in the order D, G,
+// F, spectral, detail, channel by channel in the order the format lists them, each channel's
+// pixels in scanline order, as little-endian float32 bytes. The writer stores it; the reader
+// recomputes it from what it read.
+std::string tables_checksum(const NpfModel& model);
+
 // Every check of docs/format.md sec. 8 over the parts `source` gives, naming `path` in the
 // npf::Error it throws (also for a std::exception a source lets out).
 NpfModel read_npf_texture_parts(const std::string& path, std::unique_ptr<NpfTexturePartSource> source);

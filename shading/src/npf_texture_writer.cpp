@@ -6,6 +6,8 @@
 #include <npf/core/text.h>
 #include <npf/shading/npf_texture_layout.h>
 
+#include "npf_texture_parts.h"
+
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <Imath/half.h>
@@ -109,6 +111,7 @@ void put_file_attributes(const NpfModel& m, ImageSpec& spec) {
     spec.attribute(layout::kAttrGKeptRatio, OIIO::TypeDesc::DOUBLE, &m.G.kept_ratio);
     spec.attribute(layout::kAttrDSingularValues, numbers_text(m.D.singular_values));
     spec.attribute(layout::kAttrGSingularValues, numbers_text(m.G.singular_values));
+    spec.attribute(layout::kAttrTablesChecksum, tables_checksum(m));
     if (m.has_detail()) {
         spec.attribute(layout::kAttrDetailThetaH, m.detail_grid.theta_h);
         spec.attribute(layout::kAttrDetailThetaD, m.detail_grid.theta_d);

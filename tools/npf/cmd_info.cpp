@@ -1,10 +1,14 @@
-// npf info FILE...: what a user wants to know about a material before converting it.
+// npf info FILE...: what a user wants to know about a material before converting it; with
+// --check, whether each file would shade (for pipelines: docs/farms.md).
 #include "command_line.h"
 #include "commands.h"
 
 #include <npf/converter/open_material.h>
+#include <npf/core/error.h>
 #include <npf/core/input_file.h>
 #include <npf/core/json_text.h>
+#include <npf/shading/npf_closure.h>
+#include <npf/shading/npf_texture_file.h>
 
 #include <cstdint>
 #include <cstdio>
@@ -16,6 +20,8 @@ namespace {
 
 const std::vector<FlagSpec> kFlags = {
     {"--json", false, "print a JSON array, one object per file, instead of the text"},
+    {"--check", false, "only check that each FILE would shade: one line per file, 'ok: FILE' or 'error: FILE: "
+                       "PROBLEM'; exit 1 if any would not"},
     {"--help", false, "show this help"},
 };
 
@@ -73,19 +79,64 @@ std::string json_object(const std::string& path, const BrdfInfo& i, std::uint64_
     return out + "}}";
 }
 
+// What keeps `path` from shading, "" when nothing does. Factor textures, and the TIFF copies image
+// tools make of them, are opened as a renderer opens them: by NpfClosure on both of its paths
+// (arrays, and OpenImageIO's TextureSystem with its own checks); every other source by
+// open_material, as the other commands open it.
+std::string shading_problem(const std::string& path) {
+    try {
+        if (is_npf_texture_or_copy(path)) {
+            const NpfClosure in_memory(path, NpfClosure::Path::Memory);
+            const NpfClosure through_textures(path, NpfClosure::Path::Texture);
+        } else {
+            open_material(path);
+        }
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+int run_check(const std::vector<std::string>& paths, bool json) {
+    std::string json_text;
+    std::size_t failed = 0;
+    for (const std::string& path : paths) {
+        const std::string problem = shading_problem(path);
+        if (!problem.empty()) ++failed;
+        if (json) {
+            json_text += (json_text.empty() ? "[" : ",\n ") + std::string("{\"file\": ") + json_string(path) +
+                         ", \"ok\": " + (problem.empty() ? "true" : "false") +
+                         ", \"error\": " + (problem.empty() ? "null" : json_string(problem)) + "}";
+        } else if (problem.empty()) {
+            std::printf("ok: %s\n", path.c_str());
+        } else {
+            std::printf("error: %s\n", problem.c_str());
+        }
+    }
+    if (json) std::printf("%s]\n", json_text.c_str());
+    if (failed > 0) {
+        throw Error("", std::to_string(failed) + " of " + std::to_string(paths.size()) +
+                            (paths.size() == 1 ? " file" : " files") + " would not shade");
+    }
+    return 0;
+}
+
 }  // namespace
 
 int run_info(const std::vector<std::string>& args) {
     CommandLine cl("info", args, kFlags);
     if (cl.has("--help")) {
-        std::printf("usage: npf info FILE... [--json]\n\nPrints format, isotropy, channels (wavelength range and "
-                    "count), grid sizes, description and size of each material: RGL .bsdf, MERL .binary, NPF "
-                    "texture .exr, Neural BRDF .h5 or analytic recipe .yaml.\n\n%s",
+        std::printf("usage: npf info FILE... [--json] [--check]\n\nPrints format, isotropy, channels (wavelength range "
+                    "and count), grid sizes, description and size of each material: RGL .bsdf, MERL .binary, NPF "
+                    "texture .exr, Neural BRDF .h5 or analytic recipe .yaml.\n\nWith --check, opens each file as "
+                    "a renderer would (factor textures as NpfClosure does, on both paths) and prints one line per "
+                    "file; exit status 1 when any would not shade (docs/farms.md).\n\n%s",
                     usage_lines(kFlags).c_str());
         return 0;
     }
     cl.expect_positional(1, SIZE_MAX, "one or more FILEs");
     const bool json = cl.has("--json");
+    if (cl.has("--check")) return run_check(cl.positional(), json);
     std::string json_text;  // printed whole at the end: an error leaves no half array
     bool first = true;
     for (const std::string& path : cl.positional()) {

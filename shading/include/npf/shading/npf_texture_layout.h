@@ -47,6 +47,10 @@ constexpr const char* kAttrDetailPhiD = "npf:detail_phi_d";
 constexpr const char* kAttrDetailRank = "npf:detail_rank";                      // int
 constexpr const char* kAttrDetailKeptRatio = "npf:detail_kept_ratio";           // double
 constexpr const char* kAttrDetailSingularValues = "npf:detail_singular_values";  // string
+// A seal over every table value ("fnv1a64:" and 16 hex digits; docs/format.md sec. 4): a copy
+// whose pixels a tool changed (oiiotool -d half, say) is refused rather than shaded. Optional:
+// files written before it have none.
+constexpr const char* kAttrTablesChecksum = "npf:tables_checksum";  // string
 constexpr const char* kAttrMetadataKeys = "npf:metadata_keys";  // string, keys joined by '\n'
 constexpr const char* kMetadataPrefix = "npf:meta:";            // + key: string value
 // Metadata keys that npf reads back (the others are written for people: docs/format.md sec. 5).
