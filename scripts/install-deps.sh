@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config
           libopenimageio-dev openimageio-tools libopencolorio-dev libopenexr-dev
           libeigen3-dev libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev
-          libhdf5-dev python3-dev python3-venv)
+          libhdf5-dev python3-dev python3-venv faketime)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
