@@ -35,8 +35,9 @@ std::unique_ptr<Brdf> open_material_file(const std::string& path) {
     if (MerlBrdf::looks_like_merl(head, got, size) || MerlBrdf::has_plausible_header(head, got, size) ||
         ends_with(path, ".binary"))
         return MerlBrdf::load(path);
-    // Any OpenEXR file is taken for an NPF texture: the reader says what is missing if it is not.
-    if (has_exr_magic(head, got)) return std::make_unique<NpfBrdf>(path);
+    // Any OpenEXR file is taken for an NPF texture: the reader says what is missing if it is not;
+    // so is a TIFF, which the reader names as maketx's copy of one (docs/farms.md).
+    if (has_exr_magic(head, got) || has_tiff_magic(head, got)) return std::make_unique<NpfBrdf>(path);
     // Any HDF5 file, or any file named like one, is taken for a Neural BRDF network: the reader
     // says what is missing (or that it is not HDF5 at all).
     if (NbrdfBrdf::has_hdf5_signature(head, got) || ends_with(path, ".h5") || ends_with(path, ".hdf5"))
