@@ -141,13 +141,13 @@ nb::dict convert(const std::string& input, const std::string& output,
             table, [&](const ConvertSettingRow& row) { return given[std::size_t(&row - table.data())]; },
             [](const ConvertSettingRow& row) { return row.key; }, source->info().isotropic);
         check_output_path(output);
-        std::function<void(double)> report_progress;
-        if (!progress.is_none()) {
-            report_progress = [&progress](double f) {
-                nb::gil_scoped_acquire acquire;
-                progress(f);
-            };
-        }
+        // Each progress report also looks for Ctrl-C (a conversion can take minutes): the
+        // KeyboardInterrupt unwinds the conversion, which then publishes nothing.
+        const std::function<void(double)> report_progress = [&progress](double f) {
+            nb::gil_scoped_acquire acquire;
+            if (PyErr_CheckSignals() != 0) throw nb::python_error();
+            if (!progress.is_none()) progress(f);
+        };
         r = convert_material(*source, output, s, report_progress);
     }
     nb::dict d;

@@ -188,6 +188,20 @@ def test_convert_writes_what_npf_convert_writes(tmp_path):
     assert fractions and fractions[-1] == 1.0 and fractions == sorted(fractions)
 
 
+def test_an_exception_in_progress_stops_the_conversion_and_writes_nothing(tmp_path):
+    # As Ctrl-C does (KeyboardInterrupt through the same path): the conversion unwinds, no output.
+    class Stop(Exception):
+        pass
+
+    def stop_midway(fraction):
+        if fraction > 0.05:
+            raise Stop()
+
+    with pytest.raises(Stop):
+        npf.convert(SHIPPED, tmp_path / "stopped.exr", progress=stop_midway, **FAST)
+    assert os.listdir(tmp_path) == []
+
+
 def test_edit_writes_what_npf_edit_writes(ilm_exr, tmp_path):
     report = npf.edit(ilm_exr, tmp_path / "py.exr", diffuse_srgb=(0.8, 0.1, 0.1), sharpen=1.5)
     run_npf("edit", ilm_exr, "-o", tmp_path / "cli.exr", "--diffuse-srgb", "0.8,0.1,0.1", "--sharpen", "1.5")
