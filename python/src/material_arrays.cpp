@@ -51,7 +51,7 @@ struct ChunkDirections {
         for (std::size_t j = 0; j < w.size(); ++j) {
             const double* r = rows + 3 * (begin + j);
             const double squares = r[0] * r[0] + r[1] * r[1] + r[2] * r[2], l = std::sqrt(squares);
-            all_common &= squares > 1e-290 && squares < 1e290;
+            all_common &= squares_need_no_hypot(squares);
             x[j] = float(r[0] / l), y[j] = float(r[1] / l), z[j] = float(r[2] / l);
         }
         for (std::size_t j = 0; j < w.size(); ++j) {

@@ -39,9 +39,10 @@ inline Vec3 normalize(const Vec3& a) {
 // 1e308 (or 1e-310) are a direction like any other (their squares would overflow, or vanish);
 // then a division per component. (hypot everywhere cost the Python package's batched eval a
 // third of its time.) False for a direction of zero length or with a NaN component.
+inline bool squares_need_no_hypot(double squares) { return squares > 1e-290 && squares < 1e290; }
 inline bool unit_direction(double x, double y, double z, Vec3& out) {
     const double squares = x * x + y * y + z * z;
-    const double l = squares > 1e-290 && squares < 1e290 ? std::sqrt(squares) : std::hypot(x, y, z);
+    const double l = squares_need_no_hypot(squares) ? std::sqrt(squares) : std::hypot(x, y, z);
     if (!(l > 0.0)) return false;
     out = Vec3(float(x / l), float(y / l), float(z / l));
     return true;
