@@ -39,21 +39,21 @@ def register(name="npf"):
     dr.set_flag(dr.JitFlag.SymbolicCalls, False)
     spectral = mi.is_spectral
     if mi.is_polarized:
-        raise _npf.Error("{}: npf's plugin is unpolarized; use an rgb or spectral variant".format(mi.variant()))
+        raise _npf._error(mi.variant(), "npf's plugin is unpolarized; use an rgb or spectral variant")
 
     class NpfBsdf(mi.BSDF):
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
             if not props.has_property("filename"):
-                raise _npf.Error("npf plugin: needs a 'filename' (a material npf opens, e.g. a factor texture)")
+                raise _npf._error("npf plugin", "needs a 'filename' (a material npf opens, e.g. a factor texture)")
             self.filename = str(props["filename"])
             self.material = _npf.open(self.filename)
             if self.material.is_rgb and spectral:
-                raise _npf.Error("{}: holds RGB data; render it with an RGB variant (not {})".format(
-                    self.filename, mi.variant()))
+                raise _npf._error(self.filename, "holds RGB data; render it with an RGB variant (not {})".format(
+                    mi.variant()))
             if not self.material.is_rgb and not spectral:
-                raise _npf.Error("{}: holds spectral data; render it with a spectral variant (not {})".format(
-                    self.filename, mi.variant()))
+                raise _npf._error(self.filename, "holds spectral data; render it with a spectral variant (not {})".format(
+                    mi.variant()))
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             if not self.material.info["isotropic"]:
                 flags = flags | mi.BSDFFlags.Anisotropic
