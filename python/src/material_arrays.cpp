@@ -98,21 +98,28 @@ MaterialArrays::MaterialArrays(const std::string& path) : m_brdf(open_material(p
     }
 }
 
-std::size_t MaterialArrays::value_count(const ArrayWavelengths& wavelengths) const {
+std::size_t MaterialArrays::value_count(const ArrayWavelengths& wavelengths, std::size_t n) const {
     const BrdfInfo& info = m_brdf->info();
     if (!wavelengths.nm) return info.channels.size();
     if (info.channels.is_rgb()) throw Error(info.path, "holds RGB data; wavelengths need a spectral file");
     if (wavelengths.count == 0) throw Error("wavelengths", "none given");
-    for (std::size_t k = 0; k < wavelengths.count; ++k) {
-        if (!std::isfinite(wavelengths.nm[k]) || !(wavelengths.nm[k] > 0.f))
-            throw Error("wavelengths", "not a positive number of nanometres: " + std::to_string(wavelengths.nm[k]));
+    // Every wavelength of the call, so that every source answers a bad one alike (an error, not
+    // the closure's 0 for one source and a reader's error for another).
+    const std::size_t rows = wavelengths.per_pair ? n : 1;
+    for (std::size_t i = 0; i < rows * wavelengths.count; ++i) {
+        const float nm = wavelengths.nm[i];
+        if (!std::isfinite(nm) || !(nm > 0.f)) {
+            throw Error("wavelengths[" + std::to_string(i / wavelengths.count) + ", " + std::to_string(i % wavelengths.count) +
+                            "]",
+                        "not a positive number of nanometres: " + std::to_string(nm));
+        }
     }
     return wavelengths.count;
 }
 
 void MaterialArrays::eval(std::size_t n, const double* wi, const double* wo, const ArrayWavelengths& wavelengths,
                           bool cos, double* out, int threads) const {
-    const std::size_t count = value_count(wavelengths);
+    const std::size_t count = value_count(wavelengths, n);
     // f_r = (f_r cos) / cos, as npf eval divides; below the horizon the value is 0 and stays 0.
     auto store = [&](std::size_t i, std::size_t k, float value, const Vec3& light) {
         out[i * count + k] = cos ? double(value) : light.z > 0.f ? double(value) / double(light.z) : 0.0;
@@ -154,7 +161,7 @@ void MaterialArrays::pdf(std::size_t n, const double* wi, const double* wo, doub
 
 void MaterialArrays::sample(std::size_t n, const double* wi, const double* u, const ArrayWavelengths& wavelengths,
                             double* wo_out, double* pdf_out, double* weight_out, int threads) const {
-    const std::size_t count = value_count(wavelengths);
+    const std::size_t count = value_count(wavelengths, n);
     if (m_closure) {
         for_chunks(n, threads, [&](std::size_t begin, std::size_t end) {
             const ChunkDirections view(wi, begin, end, "wi");

@@ -32,8 +32,9 @@ public:
     // The closure a factor texture shades through (memory path), or null for other sources.
     const NpfClosure* closure() const { return m_closure; }
 
-    // Values per pair for `wavelengths`; throws npf::Error for wavelengths an RGB file cannot give.
-    std::size_t value_count(const ArrayWavelengths& wavelengths) const;
+    // Values per pair for `wavelengths` over n pairs; throws npf::Error for wavelengths an RGB
+    // file cannot give and for any that is not a positive finite number.
+    std::size_t value_count(const ArrayWavelengths& wavelengths, std::size_t n) const;
 
     // wi, wo: n x 3 doubles (row-major), wi the direction the query is conditioned on (npf::Brdf's
     // convention, docs/conventions.md). out: n x value_count doubles, f_r in 1/sr (f_r cos theta_o

@@ -81,7 +81,7 @@ public:
     Array eval(const Rows3& wi, const Rows3& wo, const std::optional<WavelengthRows>& nm, bool per_pair, bool cos,
                int threads) const {
         const ArrayWavelengths w = wavelengths_of(nm, per_pair);
-        const std::size_t n = wi.shape(0), count = m_arrays.value_count(w);
+        const std::size_t n = wi.shape(0), count = m_arrays.value_count(w, n);
         double* out = nullptr;
         Array result = new_array({n, count}, out);
         nb::gil_scoped_release release;
@@ -101,7 +101,7 @@ public:
     std::tuple<Array, Array, Array> sample(const Rows3& wi, const Rows2& u, const std::optional<WavelengthRows>& nm,
                                            bool per_pair, int threads) const {
         const ArrayWavelengths w = wavelengths_of(nm, per_pair);
-        const std::size_t n = wi.shape(0), count = m_arrays.value_count(w);
+        const std::size_t n = wi.shape(0), count = m_arrays.value_count(w, n);
         double *wo = nullptr, *pdf = nullptr, *weight = nullptr;
         Array wo_array = new_array({n, 3}, wo), pdf_array = new_array({n}, pdf), weight_array = new_array({n, count}, weight);
         {

@@ -104,6 +104,17 @@ def test_wavelengths_shared_and_per_pair(copper_exr, rng):
         np.testing.assert_array_equal(per_pair[i], m.eval(wi[i], wo[i], wavelengths=hero[i])[0])
 
 
+def test_bad_wavelengths_are_errors_on_every_source(copper_exr, rng):
+    wi, wo = hemisphere(rng, 8), hemisphere(rng, 8)
+    hero = np.full((8, 4), 500.0)
+    hero[5, 2] = np.nan
+    for path in (copper_exr, COPPER_RECIPE):
+        with pytest.raises(npf.Error, match=r"wavelengths\[5, 2\]: not a positive number"):
+            npf.open(path).eval(wi, wo, wavelengths=hero)
+    with pytest.raises(npf.Error, match=r"wavelengths\[0, 1\]"):
+        npf.open(copper_exr).sample(wi, rng.random((8, 2)), wavelengths=[500.0, -3.0])
+
+
 def test_results_do_not_depend_on_threads(copper_exr, rng):
     m = npf.open(copper_exr)
     wi, wo = hemisphere(rng, 5000), hemisphere(rng, 5000)
