@@ -128,6 +128,10 @@ class Material:
             u = _np.broadcast_to(u, (wi.shape[0], 2))
         if wi.shape[0] != u.shape[0]:
             raise _error("wi, u", "{} directions and {} samples".format(wi.shape[0], u.shape[0]))
+        outside = ~((u >= 0.0) & (u <= 1.0))  # NaN included
+        if outside.any():
+            i, k = _np.argwhere(outside)[0]
+            raise _error("u[{}, {}]".format(i, k), "not a uniform number in [0, 1): {}".format(u[i, k]))
         nm, per_pair = _wavelengths(wavelengths, wi.shape[0])
         return self._m.sample(wi, _np.ascontiguousarray(u), nm, per_pair, int(threads))
 

@@ -18,13 +18,14 @@ namespace {
 // unit the threads share (fixed, so the thread count does not change any result).
 constexpr std::size_t kChunk = 1024;
 
-Error bad_direction(const char* name, std::size_t i) {
-    return Error(std::string(name) + "[" + std::to_string(i) + "]", "a direction of zero length or with NaN");
-}
-
+// Row i as a unit direction, or npf::Error naming it: zero length, a NaN or an infinite component
+// (npf eval's reader refuses non-finite numbers before it normalises).
 Vec3 direction_at(const double* rows, std::size_t i, const char* name) {
     Vec3 w;
-    if (!unit_direction(rows[3 * i], rows[3 * i + 1], rows[3 * i + 2], w)) throw bad_direction(name, i);
+    const double* r = rows + 3 * i;
+    if (!std::isfinite(r[0]) || !std::isfinite(r[1]) || !std::isfinite(r[2]) || !unit_direction(r[0], r[1], r[2], w)) {
+        throw Error(std::string(name) + "[" + std::to_string(i) + "]", "a direction of zero length or not finite");
+    }
     return w;
 }
 

@@ -168,6 +168,12 @@ def test_errors_name_the_file_or_argument_and_the_problem(ilm_exr, tmp_path):
         m.eval([[0, 0, 1], [0, 0, 0]], [[0, 0, 1], [0, 0, 1]])
     with pytest.raises(npf.Error, match=r"wo\[0\]"):
         m.eval([0, 0, 1], [np.nan, 0, 1])
+    with pytest.raises(npf.Error, match=r"wi\[2\]: a direction of zero length or not finite"):
+        m.pdf([[0, 0, 1], [0, 0, 1], [np.inf, 0, 1]], [0, 0, 1])
+    # Components far from 1 are directions like any other (normalised as npf eval does).
+    np.testing.assert_array_equal(m.eval([0, 0, 1e300], [1e-300, 0, 1e-300]), m.eval([0, 0, 1], [1, 0, 1]))
+    with pytest.raises(npf.Error, match=r"u\[1, 0\]: not a uniform number in \[0, 1\)"):
+        m.sample([0, 0, 1], [[0.5, 0.5], [np.nan, 0.5]])
     with pytest.raises(npf.Error, match="expected an \\(N, 3\\) array"):
         m.eval(np.zeros((4, 2)), np.zeros((4, 3)))
     with pytest.raises(npf.Error, match="3 and 4 directions"):
