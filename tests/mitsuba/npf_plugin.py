@@ -18,7 +18,7 @@ npf's renderer beside both (docs/mitsuba.md):
    mirror-like pdf: it reports the pdf integrating above 1, and rejects Mitsuba's own `measured`
    plugin there too, on the raw ilm file.)
 
-usage: npf_plugin.py NPF_TOOL [--size N] [--spp N] [--chi2-resolution N] [--chi2-must-pass STEM...]
+usage: npf_plugin.py NPF_TOOL [--size N] [--spp N] [--chi2-resolution N] [--chi2-must-pass STEM,...]
                      [--json OUT] RGL_FILE...
 Needs `pip install mitsuba` and the npf package on PYTHONPATH; the LLVM variants need an LLVM
 Dr.Jit accepts (Debian 12: apt-get install libllvm19). Exit 0 when every check passes, 1
@@ -163,8 +163,9 @@ def main():
     parser.add_argument("--spp", type=int, default=64)
     parser.add_argument("--json")
     parser.add_argument("--keep", action="store_true", help="keep the renders (their folder is printed)")
-    parser.add_argument("--chi2-must-pass", nargs="*", default=[],
-                        help="materials (file stems) whose chi-square tests must all pass; the others are reported")
+    parser.add_argument("--chi2-must-pass", default="",
+                        help="comma-separated materials (file stems) whose chi-square tests must all pass; the others "
+                             "are reported")
     parser.add_argument("--chi2-resolution", type=int, default=101,
                         help="cells in cos theta (twice as many in phi: mitsuba.chi2's res); a mirror-like material "
                              "needs more")
@@ -192,7 +193,7 @@ def main():
         agree = abs(row["psnr_mitsuba_npf_reader"] - row["psnr_npf"]) <= 1.0 and (
             not same_readers or abs(row["psnr_mitsuba"] - row["psnr_npf"]) <= 1.0)
         chi2 = "".join("+" if passed else "-" for _, passed in row["chi2"])
-        ok &= agree and (row["material"] not in args.chi2_must_pass or "-" not in chi2)
+        ok &= agree and (row["material"] not in args.chi2_must_pass.split(",") or "-" not in chi2)
         print("%-24s %8.2f %8.2f %9.2f %8.2f %8.2f %8.2f %8.2f %7.3f %7.3f  %s%s" % (
             row["material"], row["psnr_mitsuba"], row["floor_mitsuba"], row["psnr_readers"],
             row["psnr_mitsuba_npf_reader"], row["floor_mitsuba_npf_reader"], row["psnr_npf"], row["floor_npf"],
