@@ -84,13 +84,12 @@ double detail_albedo_at_normal(const NpfModel& m, const std::vector<double>& y) 
 }  // namespace
 
 NpfClosure::NpfClosure(NpfModel model) : m_path(Path::Memory), m_model(std::move(model)) {
-    const ExactFloatScope exact;  // the sampler's tables the same in any caller's environment
     m_model.validate("NPF model");
     finish_construction();
 }
 
 NpfClosure::NpfClosure(const std::string& path, Path path_kind, OIIO::TextureSystem* ts) : m_path(path_kind) {
-    const ExactFloatScope exact;  // half-denormal texels must not read as 0 (float_environment.h)
+    // (read_npf_texture reads the texels with denormals kept, whatever the caller's setting.)
     if (path_kind == Path::Memory) {
         m_model = read_npf_texture(path);
     } else {
@@ -109,6 +108,7 @@ NpfClosure::NpfClosure(const std::string& path, Path path_kind, OIIO::TextureSys
 NpfClosure::~NpfClosure() = default;
 
 void NpfClosure::finish_construction() {
+    const ExactFloatScope exact;  // the sampler's tables the same in any caller's environment
     if (!m_model.channels.is_rgb()) m_wavelengths = WavelengthLocator(m_model.channels.wavelengths());
     if (!m_texture) {
         m_cell_major_d = batch_detail::cell_major_of(m_model.D);
