@@ -34,6 +34,19 @@ namespace npf {
 // that a finite but absurd table (3e38) cannot turn into infinities and NaNs downstream.
 inline constexpr double kMaxMaterialValue = 1e12;
 
+// What a material can produce, not only what it stores: every reader computes from its tables, when
+// it opens a file, an upper bound of f_r cos(theta_i) cos(theta_o) over all direction pairs and
+// channels (BrdfInfo::value_bound; products of table values, so that five factors each under the
+// cap cannot multiply to 6e59). This projected form, rather than f_r or f_r cos(theta_o), because it
+// is finite for every physical material, the paper's model with G open at the horizon included
+// (there f_r itself grows like 1 / cos at grazing angles). A material whose bound is not finite or
+// is above kMaxMaterialValue is refused (check_value_bound), so that no evaluation, sample, render
+// or albedo of an accepted material can overflow.
+//
+// Throws npf::Error naming `source` when `bound` is not finite or above kMaxMaterialValue;
+// `terms` says which tables' product it is ("rho_s x D x F x G x G").
+void check_value_bound(const std::string& source, double bound, const std::string& terms);
+
 struct BrdfInfo {
     std::string format;       // "rgl", "merl", ...
     std::string path;         // where it was read from, empty for in-memory materials
@@ -41,6 +54,9 @@ struct BrdfInfo {
     bool isotropic = true;
     Channels channels;        // what the source stores (RGB, or its wavelengths)
     std::uint64_t file_bytes = 0;
+    // An upper bound of f_r cos(theta_i) cos(theta_o) in 1/sr over all pairs and channels, from the
+    // tables (see kMaxMaterialValue); at most kMaxMaterialValue for anything a reader accepted.
+    double value_bound = 0.0;
     // Format-specific facts for `npf info`, in display order (grid sizes, flags, ...).
     std::vector<std::pair<std::string, std::string>> details;
 };
