@@ -3,6 +3,7 @@
 #include <npf/converter/data_files.h>
 #include <npf/converter/yaml_context.h>
 #include <npf/core/error.h>
+#include <npf/core/text_input.h>
 #include <npf/core/input_file.h>
 #include <npf/core/number_text.h>
 
@@ -231,13 +232,9 @@ MaterialRecipe parse_material_recipe(const std::string& yaml, const std::string&
 }
 
 MaterialRecipe load_material_recipe(const std::string& path) {
-    require_regular_file(path, "a recipe");
-    std::ifstream in(path);
-    if (!in) throw Error(path, "cannot open the recipe");
-    std::stringstream ss;
-    ss << in.rdbuf();
+    const std::string text = read_text_file(path, "a recipe", kRecipeTextBounds);
     const std::size_t slash = path.find_last_of('/');
-    return parse_material_recipe(ss.str(), path, slash == std::string::npos ? "." : path.substr(0, slash));
+    return parse_material_recipe(text, path, slash == std::string::npos ? "." : path.substr(0, slash));
 }
 
 }  // namespace npf

@@ -4,6 +4,7 @@
 
 #include <npf/converter/yaml_context.h>
 #include <npf/core/error.h>
+#include <npf/core/text_input.h>
 #include <npf/core/input_file.h>
 
 #include <yaml-cpp/yaml.h>
@@ -57,14 +58,7 @@ void parse_options(const Context& cx, const YAML::Node& o, EditRecipe& r) {
     }
 }
 
-std::string read_whole(const std::string& path) {
-    require_regular_file(path, "an edit recipe (.yaml)");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, "cannot open");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
+std::string read_whole(const std::string& path) { return read_text_file(path, "an edit recipe (.yaml)", kRecipeTextBounds); }
 
 }  // namespace
 

@@ -2,6 +2,7 @@
 #include <npf/color/spectrum.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
+#include <npf/core/text_input.h>
 
 #include <algorithm>
 #include <cmath>
@@ -74,15 +75,12 @@ std::vector<double> SampledSpectrum::sample(const std::vector<float>& wavelength
 }
 
 SampledSpectrum read_spd(const std::string& path) {
-    require_regular_file(path, "a spectrum file");
-    std::ifstream in(path);
-    if (!in) throw Error(path, "cannot open file for reading");
-
+    LineReader in(path, "a spectrum file", kTableTextBounds);
     std::vector<double> wavelengths, values;
     std::string line;
     std::size_t line_number = 0;
-    while (std::getline(in, line)) {
-        ++line_number;
+    while (in.next(line)) {
+        line_number = in.line_number();
         const std::string where = "line " + std::to_string(line_number) + ": ";
         const std::size_t hash = line.find('#');
         if (hash != std::string::npos) line.erase(hash);
@@ -107,7 +105,6 @@ SampledSpectrum read_spd(const std::string& path) {
         wavelengths.push_back(row[0]);
         values.push_back(row[1]);
     }
-    if (in.bad()) throw Error(path, "read error after line " + std::to_string(line_number));
     if (values.empty()) throw Error(path, "no data rows (expected lines 'wavelength value')");
     return SampledSpectrum(std::move(wavelengths), std::move(values));
 }

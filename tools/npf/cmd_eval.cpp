@@ -7,6 +7,7 @@
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
 #include <npf/core/json_text.h>
+#include <npf/core/text_input.h>
 #include <npf/shading/npf_brdf.h>
 #include <npf/shading/npf_texture_file.h>
 
@@ -14,8 +15,6 @@
 #include <cmath>
 #include <cstring>
 #include <cstdio>
-#include <fstream>
-#include <iostream>
 #include <memory>
 #include <sstream>
 
@@ -104,15 +103,12 @@ int run_eval(const std::vector<std::string>& args) {
     const bool with_cos = cl.has("--cos");
     const bool with_pdf = cl.has("--pdf");
 
+    // Pairs stream through: bounded per line and in all (text_input.h), so /dev/zero or an
+    // endless line is refused at once instead of filling memory.
     const std::string dirs = cl.value("--dirs", "-");
-    std::ifstream file;
-    if (dirs != "-") {
-        require_regular_file(dirs, "a direction file");
-        file.open(dirs);
-        if (!file) throw Error(dirs, "cannot open direction file");
-    }
-    std::istream& in = dirs == "-" ? std::cin : file;
-    const std::string dirs_name = dirs == "-" ? "<stdin>" : dirs;
+    std::unique_ptr<LineReader> reader = dirs == "-" ? std::make_unique<LineReader>(0, "<stdin>", kStreamTextBounds)
+                                                     : std::make_unique<LineReader>(dirs, "a direction file", kStreamTextBounds);
+    const std::string dirs_name = reader->name();
 
     // --json: the same content as the text, the header as keys and a row object per pair.
     const bool json = cl.has("--json");
@@ -132,7 +128,8 @@ int run_eval(const std::vector<std::string>& args) {
     std::vector<float> values(query.size());
     std::string line;
     char buf[64];
-    for (std::size_t line_no = 1; std::getline(in, line); ++line_no) {
+    while (reader->next(line)) {
+        const std::size_t line_no = reader->line_number();
         auto first = line.find_first_not_of(" \t\r");
         if (first == std::string::npos || line[first] == '#') continue;
         double v[6];
@@ -172,7 +169,6 @@ int run_eval(const std::vector<std::string>& args) {
             out.clear();
         }
     }
-    if (in.bad()) throw Error(dirs_name, "read error");
     if (json) out += "]}\n";
     std::fwrite(out.data(), 1, out.size(), stdout);
     return 0;
