@@ -1,7 +1,9 @@
 #include <npf/core/clamp.h>
 #include <npf/converter/rgl_brdf.h>
 #include "rgl_u_space.h"
+#include <npf/core/brdf.h>
 #include <npf/core/error.h>
+#include <npf/core/text.h>
 
 #include <algorithm>
 #include <cmath>
@@ -132,6 +134,9 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
     const TensorField* rgb = file.find("rgb");
     const TensorField* spectra = file.find("spectra");
     const TensorField* data = nullptr;
+    // Both would leave the reader to pick one silently, and the two readers of the RGL group
+    // pick differently.
+    if (rgb && spectra) throw Error(src, "holds both 'rgb' and 'spectra': which one is the measurement is ambiguous");
     if (spectra) {
         data = &float_field("spectra", 5);
         const TensorField& wl = float_field("wavelengths", 1);
@@ -190,8 +195,11 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
         }
         return v;
     };
-    b->m_ndf = PiecewiseLinear2D(ndf.shape[1], ndf.shape[0], 1, non_negative(ndf), false, src + ": field 'ndf'");
-    b->m_sigma = PiecewiseLinear2D(sigma.shape[1], sigma.shape[0], 1, non_negative(sigma), false,
+    std::vector<float> ndf_values = non_negative(ndf), sigma_values = non_negative(sigma);
+    const float ndf_max = *std::max_element(ndf_values.begin(), ndf_values.end());
+    const float sigma_min = *std::min_element(sigma_values.begin(), sigma_values.end());
+    b->m_ndf = PiecewiseLinear2D(ndf.shape[1], ndf.shape[0], 1, std::move(ndf_values), false, src + ": field 'ndf'");
+    b->m_sigma = PiecewiseLinear2D(sigma.shape[1], sigma.shape[0], 1, std::move(sigma_values), false,
                                    src + ": field 'sigma'");
     b->m_vndf = PiecewiseLinear2D(vndf.shape[3], vndf.shape[2], nP * nT, bounded(vndf, file.to_float(vndf)), true,
                                   src + ": field 'vndf'");
@@ -221,13 +229,28 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
     if (const TensorField* jac = file.find("jacobian")) {
         file.expect_dtype(*jac, DType::U8);
         if (jac->count != 1) throw Error(src, "field 'jacobian' must hold exactly one u8");
-        b->m_jacobian = file.payload(*jac)[0] != 0;
+        // A flag: any other value is a damaged file, not a third meaning.
+        const std::uint8_t flag = file.payload(*jac)[0];
+        if (flag > 1) throw Error(src, "field 'jacobian' is " + std::to_string(flag) + "; it must be 0 or 1");
+        b->m_jacobian = flag != 0;
         jacobian_note = b->m_jacobian ? "1 (data are the ratio to the VNDF pdf)" : "0 (data are f_r cos)";
     } else {
         jacobian_note = "field absent; 1 assumed, as the reference readers do";
     }
 
+    // The value bound (brdf.h): every value is an interpolation of stored ones with weights in
+    // [0, 1], so |data| <= its largest entry; with the Jacobian it is multiplied by ndf / (4 sigma),
+    // where the interpolated sigma is at least its smallest node (a zero node lets it approach 0:
+    // no bound). f_r cos(theta_o) bounds the projected form, as cos(theta_i) <= 1.
+    double data_max = 0.0;
+    for (float v : stored) data_max = std::max(data_max, double(std::fabs(v)));
+    const double bound = !b->m_jacobian ? data_max
+                         : data_max == 0.0 || ndf_max == 0.f ? 0.0
+                                                             : data_max * double(ndf_max) / (4.0 * double(sigma_min));
+    check_value_bound(src, bound, b->m_jacobian ? "data x ndf / (4 sigma), sigma down to " + six_digits(sigma_min) : "data");
+
     BrdfInfo& info = b->m_info;
+    info.value_bound = bound;
     info.format = "rgl";
     info.path = src;
     info.file_bytes = file.size_bytes();
@@ -242,9 +265,15 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
         return s;
     };
     if (const TensorField* v = file.find("version")) {
-        std::vector<double> ver = file.to_double(*v);
+        // The layout this reader implements is version 1.0 (every database file says so); a
+        // later one may mean the fields differently, so it is refused rather than misread.
+        const std::vector<double> ver = file.to_double(*v);
         std::ostringstream s;
         for (std::size_t i = 0; i < ver.size() && i < 4; ++i) s << (i ? "." : "") << ver[i];
+        if (ver.size() > 4) s << "...";
+        if (ver.size() != 2 || ver[0] != 1.0 || ver[1] != 0.0)
+            throw Error(src, "field 'version' is " + (ver.empty() ? std::string("empty") : s.str()) +
+                                 "; this reader knows the measurement layout 1.0 only");
         info.details.emplace_back("measurement version", s.str());
     }
     if (!b->m_isotropic) {
@@ -259,10 +288,17 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
     info.details.emplace_back("vndf grid", grid(vndf));
     info.details.emplace_back("jacobian", jacobian_note);
     if (const TensorField* valid = file.find("valid")) {
+        // One bit per data node, packed: another size is a mask of some other grid.
         const std::uint64_t nodes = std::uint64_t(nP) * nT * Hd * Wd;
+        file.expect_dtype(*valid, DType::U8);
+        file.expect_rank(*valid, 1);
+        if (valid->count != (nodes + 7) / 8)
+            throw Error(src, "field 'valid' holds " + std::to_string(valid->count) + " bytes; one bit per data node of " +
+                                 std::to_string(nP) + " x " + std::to_string(nT) + " x " + std::to_string(Hd) + " x " +
+                                 std::to_string(Wd) + " needs " + std::to_string((nodes + 7) / 8));
         std::uint64_t set = 0;
         const std::uint8_t* bits = file.payload(*valid);
-        for (std::uint64_t i = 0; i < nodes && i / 8 < valid->byte_size(); ++i) set += (bits[i / 8] >> (7 - i % 8)) & 1u;
+        for (std::uint64_t i = 0; i < nodes; ++i) set += (bits[i / 8] >> (7 - i % 8)) & 1u;
         info.details.emplace_back("valid mask", std::to_string(set) + " of " + std::to_string(nodes) +
                                                       " bits set (not used by evaluation)");
     }
