@@ -323,7 +323,12 @@ std::unique_ptr<MerlBrdf> MerlBrdf::load(const std::string& path, MerlOptions op
             ++invalid_bins;
     }
 
+    // f_r is a (trilinear) interpolation of the table, so its largest |value| bounds f_r and
+    // with it f_r cos(theta_i) cos(theta_o); each value is already under the cap.
+    double largest = 0.0;
+    for (double v : fr) largest = std::max(largest, std::fabs(v));
     BrdfInfo& info = brdf->m_info;
+    info.value_bound = largest;
     info.format = "merl";
     info.path = path;
     // MERL files carry no description; the material's name is the file name.

@@ -35,6 +35,7 @@ BrdfInfo describe(const NpfModel& m, const std::string& path, std::uint64_t file
     info.isotropic = m.isotropic();
     info.channels = m.channels;
     info.file_bytes = file_bytes;
+    info.value_bound = m.value_bound();
     for (const auto& [key, value] : m.metadata) {
         if (key == "description") info.description = value;
     }

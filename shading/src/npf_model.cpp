@@ -231,6 +231,8 @@ void NpfModel::validate(const std::string& source) const {
     } else if (detail.rank != 0 || !detail.basis.empty() || !detail.weights.empty()) {
         throw Error(source, "detail values without a detail grid");
     }
+    // Each value under the cap is not enough: five factors of 9e11 multiply to 6e59.
+    check_value_bound(source, value_bound(), has_detail() ? "rho_d + rho_s x D x F x G x G + detail" : "rho_d + rho_s x D x F x G x G");
 }
 
 bool NpfModel::half_vector(const Vec3& wi, const Vec3& wo, HalfVector& h) const {

@@ -5,6 +5,7 @@
 
 #include <npf/converter/open_material.h>
 #include <npf/core/error.h>
+#include <npf/core/text.h>
 #include <npf/core/input_file.h>
 #include <npf/core/json_text.h>
 #include <npf/shading/npf_closure.h>
@@ -72,6 +73,7 @@ std::string json_object(const std::string& path, const BrdfInfo& i, std::uint64_
         for (std::size_t k = 0; k < w.size(); ++k) out += (k ? ", " : "") + json_number(double(w[k]), 7);
         out += "]";
     }
+    out += ", \"value_bound\": " + json_number(i.value_bound);
     out += ", \"details\": {";
     for (std::size_t k = 0; k < i.details.size(); ++k) {
         out += (k ? ", " : "") + json_string(i.details[k].first) + ": " + json_string(i.details[k].second);
@@ -151,14 +153,17 @@ int run_info(const std::vector<std::string>& args) {
         }
         if (!first) std::printf("\n");
         first = false;
-        std::printf("file: %s\n", path.c_str());
+        // Names and descriptions come from files: escaped, so that none can split or repaint a line.
+        std::printf("file: %s\n", printable(path).c_str());
         std::printf("format: %s\n", format_name(i.format).c_str());
-        std::printf("description: %s\n", i.description.empty() ? "(none)" : i.description.c_str());
+        std::printf("description: %s\n", i.description.empty() ? "(none)" : printable(i.description).c_str());
         std::printf("size: %llu bytes (%s)\n", static_cast<unsigned long long>(bytes), human_bytes(bytes).c_str());
         std::printf("isotropic: %s\n", i.isotropic ? "yes" : "no");
         std::printf("channels: %s\n", channel_summary(i.channels).c_str());
         if (!i.channels.is_rgb()) std::printf("wavelengths (nm): %s\n", i.channels.describe().c_str());
-        for (const auto& [key, value] : i.details) std::printf("%s: %s\n", key.c_str(), value.c_str());
+        std::printf("value bound: %s 1/sr (the largest f_r cos(theta_i) cos(theta_o) its tables can give)\n",
+                    six_digits(i.value_bound).c_str());
+        for (const auto& [key, value] : i.details) std::printf("%s: %s\n", printable(key).c_str(), printable(value).c_str());
     }
     if (json) std::printf("%s]\n", json_text.c_str());
     return 0;

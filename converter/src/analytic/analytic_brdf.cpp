@@ -118,6 +118,22 @@ AnalyticBrdf::AnalyticBrdf(AnalyticMaterial material) : m_material(std::move(mat
     if (!(m.sheen_roughness > 0.f && m.sheen_roughness <= 1.f))
         throw Error(src, "sheen roughness " + fmt(m.sheen_roughness) + " is outside (0, 1]");
 
+    // ---- the value bound (brdf.h): each term's largest f_r cos_i cos_o ----
+    // Specular: w D F G1 G1 / 4 with F, G1 <= 1 and D <= 1 / (pi alpha_x alpha_y) (GGX and
+    // Beckmann peak at the pole); retro: w (n + 1) / (2 pi); sheen: w D_s cos_i cos_o /
+    // (4 (cos_i + cos_o - cos_i cos_o)) <= w (2 + 1/a) / (8 pi); diffuse rho_d / pi. Spectra are
+    // interpolated between their samples, so their largest sample bounds them.
+    const auto largest = [](const color::SampledSpectrum& s) {
+        return s.empty() ? 0.0 : *std::max_element(s.values().begin(), s.values().end());
+    };
+    double bound = largest(m.diffuse) / kPi;
+    for (const SpecularLobe& lobe : m.specular)
+        bound += largest(lobe.weight) / (4.0 * kPiD * double(lobe.ndf.alpha_x) * double(lobe.ndf.alpha_y));
+    bound += largest(m.retroreflection) * (double(m.retro_exponent) + 1.0) / (2.0 * kPiD);
+    bound += largest(m.sheen) * (2.0 + 1.0 / double(m.sheen_roughness)) / (8.0 * kPiD);
+    check_value_bound(src, bound, "the sum of its lobes' peaks");
+    m_info.value_bound = bound;
+
     // ---- info ----
     m_info.format = "analytic";
     m_info.path = "";

@@ -93,8 +93,11 @@ struct NpfModel {
     // Throws npf::Error naming `source` when sizes disagree or exceed the caps above, a rank is
     // out of range, a value is not finite or above kMaxMaterialValue in magnitude, rho_d, rho_s
     // or F is negative, wavelengths are not positive and strictly ascending, or singular values
-    // are not descending and non-negative.
+    // are not descending and non-negative, or the largest value the tables can give (value_bound) is above kMaxMaterialValue.
     void validate(const std::string& source) const;
+    // An upper bound of f_r cos(theta_i) cos(theta_o) over every pair and channel
+    // (npf_value_bound.cpp; core/include/npf/core/brdf.h says why this form).
+    double value_bound() const;
 
     // Ranks up to this many have their interpolated basis values cached in a Lookup; larger ranks
     // are combined corner by corner, slower but the same values. (The texture path of NpfClosure
