@@ -266,8 +266,10 @@ EnergyCheck energy_check(const NpfModel& model, int threads) {
     return e;
 }
 
-ConvertReport convert_material(const Brdf& source, const std::string& output, const ConvertSettings& settings,
-                               const std::function<void(double)>& progress) {
+namespace {
+
+ConvertReport convert_material_stages(const Brdf& source, const std::string& output, const ConvertSettings& settings,
+                                      const std::function<void(double)>& progress) {
     const auto start = Clock::now();
     const BrdfInfo& info = source.info();
     ConvertReport report;
@@ -301,6 +303,12 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
         if (progress) progress(fit_share * f);
     };
     const NpfFactors factors = fit_npf(source, o, &report.fit);
+    // A NaN or infinite source value gets no weight in the fit; a conversion that silently drops
+    // data is wrong with exit 0, so it fails (the readers' value bounds make this a defect).
+    if (report.fit.invalid_values > 0)
+        throw Error(info.path.empty() ? "convert" : info.path,
+                    std::to_string(report.fit.invalid_values) +
+                        " source values at the fit's samples are not finite (NaN or infinite): the conversion would drop them");
 
     auto t = Clock::now();
     CompressionOptions compression = settings.compression;
@@ -467,6 +475,21 @@ ConvertReport convert_material(const Brdf& source, const std::string& output, co
     report.seconds = seconds_since(start);
     report.peak_memory_gib = peak_memory_gib();
     return report;
+}
+
+}  // namespace
+
+ConvertReport convert_material(const Brdf& source, const std::string& output, const ConvertSettings& settings,
+                               const std::function<void(double)>& progress) {
+    // Every error names the material: a stage's own ("detail layer: ...") gets the source's path in
+    // front; the output's (writing) and the source's own stay as they are.
+    const std::string& path = source.info().path;
+    try {
+        return convert_material_stages(source, output, settings, progress);
+    } catch (const Error& e) {
+        if (path.empty() || e.source() == path || e.source() == output) throw;
+        throw Error(path, e.what());
+    }
 }
 
 }  // namespace npf

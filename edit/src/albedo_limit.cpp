@@ -162,6 +162,9 @@ public:
     int azimuths = 1;
 };
 
+// How far above the cap the check's albedo may read (see limit_albedo).
+constexpr double kCapTolerance = 0.01;
+
 }  // namespace
 
 NpfModel limit_albedo(const NpfModel& model, const AlbedoLimit& limit, EditRecord* record) {
@@ -201,9 +204,17 @@ NpfModel limit_albedo(const NpfModel& model, const AlbedoLimit& limit, EditRecor
         theta_hi = std::max(theta_hi, theta);
     }
 
+    // The cap is checked, not assumed: the albedo measured as npf convert and npf albedo measure it
+    // (its own quadrature, views to the horizon) must be within it, or the edit fails rather than
+    // write a file that says it was capped. The tolerance covers the two quadratures' difference
+    // at grazing views of sharp lobes (docs/editing.md).
+    const EnergyCheck e = energy_check(out, limit.threads);
+    if (!(e.albedo_max <= limit.cap * (1.0 + kCapTolerance))) {
+        throw Error("limit_albedo", "the cap " + detail::num(limit.cap) + " is not met: the capped material's albedo still reaches " +
+                                        detail::num(e.albedo_max, 4) + " (view " + detail::num(e.theta_deg, 4) + " deg)");
+    }
     // npf convert's energy metadata describes what the file holds: measured again.
     if (has_metadata(out, npf_exr::kMetaAlbedoMax) && (scaled > 0 || diffuse_capped > 0)) {
-        const EnergyCheck e = energy_check(out, limit.threads);
         set_metadata(out, npf_exr::kMetaAlbedoMax, detail::num(e.albedo_max));
         set_metadata(out, npf_exr::kMetaAlbedoMaxViewTheta, detail::num(e.theta_deg));
     }
