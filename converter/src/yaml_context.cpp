@@ -3,10 +3,13 @@
 #include <npf/core/error.h>
 
 #include <npf/core/text.h>
+#include <npf/core/text_input.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <map>
 #include <set>
 
 namespace npf {
@@ -131,6 +134,36 @@ color::SampledSpectrum YamlContext::spectrum_rows(const YAML::Node& rows, const 
         v.push_back(number(row[1], key));
     }
     return at(rows, key, [&] { return color::SampledSpectrum(wl, v); });
+}
+
+std::vector<std::pair<std::string, std::string>> files_named_in_yaml(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::vector<YAML::Node> todo;
+    try {
+        todo.push_back(YAML::Load(read_text_file(path, "a YAML file", kRecipeTextBounds)));
+    } catch (const std::exception&) {
+        return {};
+    }
+    const fs::path dir = fs::path(path).parent_path();
+    std::map<std::string, std::string> files;
+    // Aliases share nodes, so a small document can expand to billions of visits ("billion
+    // laughs"): a recipe names a few files, and the walk stops after 2^16 nodes.
+    for (std::size_t visited = 0; !todo.empty() && visited < (std::size_t(1) << 16); ++visited) {
+        const YAML::Node n = todo.back();
+        todo.pop_back();
+        if (n.IsScalar()) {
+            const std::string v = n.Scalar();
+            if (v.empty() || v.size() > 4096 || v.find('\0') != std::string::npos) continue;
+            const fs::path p = fs::path(v).is_absolute() ? fs::path(v) : dir / v;
+            std::error_code ec;
+            if (fs::is_regular_file(p, ec)) files[v] = p.string();
+        } else if (n.IsSequence()) {
+            for (const YAML::Node& c : n) todo.push_back(c);
+        } else if (n.IsMap()) {
+            for (const auto& kv : n) todo.push_back(kv.second);
+        }
+    }
+    return {files.begin(), files.end()};
 }
 
 }  // namespace npf

@@ -190,6 +190,16 @@ RenderResult render(const Brdf& material, const EnvironmentMap& environment, con
     result.stats.dropped_values = dropped;
     result.stats.threads = threads;
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // A picture with holes or infinities is wrong, not approximate: it is refused, not written.
+    // Readers bound what a material can produce (brdf.h), so this is a defect if it happens.
+    std::size_t non_finite = 0;
+    for (float v : result.image.pixels) non_finite += std::isfinite(v) ? 0 : 1;
+    if (non_finite > 0 || dropped > 0) {
+        const std::string& path = material.info().path;
+        throw Error(path.empty() ? material.info().format : path,
+                    "the render has " + std::to_string(dropped) + " non-finite contributions and " + std::to_string(non_finite) +
+                        " non-finite pixel values: the material gives values a render cannot hold");
+    }
     return result;
 }
 

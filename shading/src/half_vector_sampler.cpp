@@ -44,9 +44,19 @@ std::vector<double> HalfVectorSampler::luminance_averaged_ndf(const NpfModel& m)
     std::vector<double> y = luminance_weights_of(m.channels);
     for (double& v : y) v = 0.99 * v + 0.01 / double(C);
     std::vector<double> d_bar(m.D.cells, 0.0);
+    // A cell's basis values gathered once (they lie a table apart), then every channel's D from
+    // them: the sums of SpectralBasis::at in its order, without C strided passes per cell.
+    const std::size_t rank = std::size_t(m.D.rank);
+    std::vector<float> b(rank);
     for (std::size_t cell = 0; cell < m.D.cells; ++cell) {
+        for (std::size_t k = 0; k < rank; ++k) b[k] = m.D.basis[k * m.D.cells + cell];
         double v = 0.0;
-        for (std::size_t c = 0; c < C; ++c) v += y[c] * std::max(0.0, m.D.at(c, cell));
+        for (std::size_t c = 0; c < C; ++c) {
+            const float* w = m.D.weights.data() + c * rank;
+            double d = 0.0;
+            for (std::size_t k = 0; k < rank; ++k) d += double(w[k]) * b[k];
+            v += y[c] * std::max(0.0, d);
+        }
         d_bar[cell] = v;
     }
     return d_bar;

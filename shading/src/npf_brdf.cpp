@@ -28,14 +28,14 @@ std::string rank_text(const SpectralBasis& s, std::size_t channels) {
            " % of the squared singular values)";
 }
 
-BrdfInfo describe(const NpfModel& m, const std::string& path, std::uint64_t file_bytes) {
+BrdfInfo describe(const NpfModel& m, double value_bound, const std::string& path, std::uint64_t file_bytes) {
     BrdfInfo info;
     info.format = "npf-exr";
     info.path = path;
     info.isotropic = m.isotropic();
     info.channels = m.channels;
     info.file_bytes = file_bytes;
-    info.value_bound = m.value_bound();
+    info.value_bound = value_bound;
     for (const auto& [key, value] : m.metadata) {
         if (key == "description") info.description = value;
     }
@@ -70,7 +70,7 @@ NpfBrdf::NpfBrdf(const std::string& path, NpfClosure::Path path_kind, OIIO::Text
 
 NpfBrdf::NpfBrdf(std::unique_ptr<NpfClosure> closure, const std::string& path, std::uint64_t file_bytes)
     : m_closure(std::move(closure)) {
-    m_info = describe(m_closure->model(), path, file_bytes);
+    m_info = describe(m_closure->model(), m_closure->value_bound(), path, file_bytes);
     if (m_closure->path() == NpfClosure::Path::Texture) {
         m_info.details.emplace_back("shading path", "texture (OpenImageIO TextureSystem)");
     }

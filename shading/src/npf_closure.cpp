@@ -109,6 +109,7 @@ NpfClosure::~NpfClosure() = default;
 
 void NpfClosure::finish_construction() {
     const ExactFloatScope exact;  // the sampler's tables the same in any caller's environment
+    m_value_bound = m_model.value_bound();
     if (!m_model.channels.is_rgb()) m_wavelengths = WavelengthLocator(m_model.channels.wavelengths());
     if (!m_texture) {
         m_cell_major_d = batch_detail::cell_major_of(m_model.D);

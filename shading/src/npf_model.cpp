@@ -218,6 +218,12 @@ void NpfModel::validate(const std::string& source) const {
         }
     }
     check_basis(D, "D", std::size_t(d_theta) * std::size_t(d_phi), C, source);
+    // The sampler's luminance-averaged D clamps every channel's D at 0 in every cell, so it costs
+    // channels x rank x cells: bounded, so that no file within the other caps takes minutes to open.
+    if (double(C) * double(D.rank) * double(D.cells) > kMaxSamplerWork) {
+        throw Error(source, "D's " + std::to_string(C) + " channels x rank " + std::to_string(D.rank) + " x " +
+                                std::to_string(D.cells) + " cells are more than the 2^32 a sampler is built from (docs/format.md sec. 8)");
+    }
     check_basis(G, "G", std::size_t(g_theta) * std::size_t(g_phi), C, source);
     if (has_detail()) {
         check_grid(detail_grid.theta_h, "detail theta_h size");

@@ -61,14 +61,19 @@ public:
         if (!m_input->open(m_path, spec)) {
             throw Error(m_path, "cannot read the OpenEXR headers: " + first_line(m_input->geterror()));
         }
+        // The header says how many parts there are: a part OpenImageIO refuses (more channels than
+        // its limits:channels, say) is named with its reason, not taken for a missing part.
+        const int count = spec.get_int_attribute("oiio:subimages", 1);
         std::vector<Part> parts;
-        for (int i = 0; m_input->seek_subimage(i, 0); ++i) {
+        for (int i = 0; i < count; ++i) {
+            if (!m_input->seek_subimage(i, 0))
+                throw Error(m_path, "OpenImageIO cannot open part " + std::to_string(i + 1) + " of " + std::to_string(count) + ": " +
+                                        first_line(m_input->geterror()));
             Part p;
             p.subimage = i;
             p.spec = m_input->spec();
             parts.push_back(std::move(p));
         }
-        m_input->geterror();  // the failed seek past the last part is expected
         // (OpenEXR itself guarantees that part names are unique.)
         return parts;
     }
@@ -124,10 +129,12 @@ private:
 
 class Reader {
 public:
-    Reader(const std::string& path, std::unique_ptr<PartSource> source) : m_path(path), m_source(std::move(source)) {}
+    Reader(const std::string& path, std::unique_ptr<PartSource> source, std::uint64_t stored_bytes)
+        : m_path(path), m_source(std::move(source)), m_stored_bytes(stored_bytes) {}
 
     NpfModel read() {
         m_parts = m_source->parts();
+        check_expansion();
         const Part* d = find_part(layout::kPartD);
         if (!d) throw Error(m_path, "an OpenEXR file but not an NPF factor texture (it has no part \"D\")");
         read_attributes(d->spec);
@@ -209,6 +216,24 @@ public:
 
 private:
     static std::string part_name(const Part& p) { return p.spec.get_string_attribute("oiio:subimagename"); }
+
+    // What the parts will take in memory against what the file holds (npf_texture_parts.h).
+    void check_expansion() const {
+        if (m_stored_bytes == 0) return;
+        std::uint64_t bytes = 0;
+        for (const Part& p : m_parts) {
+            bytes += std::uint64_t(std::max(p.spec.width, 0)) * std::uint64_t(std::max(p.spec.height, 0)) *
+                     std::uint64_t(std::max(p.spec.depth, 1)) * std::uint64_t(std::max(p.spec.nchannels, 0)) * sizeof(float);
+        }
+        if (bytes > kMaxTableExpansion * m_stored_bytes + kTableExpansionAllowance) {
+            char text[160];
+            std::snprintf(text, sizeof text, "its tables would take %.1f MB in memory from a file of %.1f kB (%.0f times its size); "
+                          "a factor texture may expand to %llu times its size plus %llu MiB: refused",
+                          double(bytes) / 1e6, double(m_stored_bytes) / 1e3, double(bytes) / double(m_stored_bytes),
+                          static_cast<unsigned long long>(kMaxTableExpansion), static_cast<unsigned long long>(kTableExpansionAllowance >> 20));
+            throw Error(m_path, text);
+        }
+    }
 
     const Part* find_part(const char* name) const {
         for (const Part& p : m_parts) {
@@ -498,6 +523,7 @@ private:
 
     std::string m_path;
     std::unique_ptr<PartSource> m_source;
+    std::uint64_t m_stored_bytes = 0;
     std::vector<Part> m_parts;
     NpfModel m_model;
     bool m_has_detail = false;  // format version 2
@@ -577,14 +603,14 @@ NpfModel read_with(const std::string& path, std::unique_ptr<PartSource> source) 
         }
     }
     check_openexr_header(path, kMaxPartPixels);
-    return read_npf_texture_parts(path, std::move(source));
+    return read_npf_texture_parts(path, std::move(source), size);
 }
 
 }  // namespace
 
-NpfModel read_npf_texture_parts(const std::string& path, std::unique_ptr<NpfTexturePartSource> source) {
+NpfModel read_npf_texture_parts(const std::string& path, std::unique_ptr<NpfTexturePartSource> source, std::uint64_t stored_bytes) {
     try {
-        return Reader(path, std::move(source)).read();
+        return Reader(path, std::move(source), stored_bytes).read();
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {  // OpenEXR or allocation failures OIIO did not catch

@@ -9,6 +9,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,7 +41,14 @@ public:
 std::string tables_checksum(const NpfModel& model);
 
 // Every check of docs/format.md sec. 8 over the parts `source` gives, naming `path` in the
-// npf::Error it throws (also for a std::exception a source lets out).
-NpfModel read_npf_texture_parts(const std::string& path, std::unique_ptr<NpfTexturePartSource> source);
+// npf::Error it throws (also for a std::exception a source lets out). With `stored_bytes` (the
+// file's size) also the expansion cap: the tables may take at most kMaxTableExpansion times the
+// file's size plus kTableExpansionAllowance in memory, so that a small file of constant,
+// highly compressible tables cannot cost gigabytes (docs/reliability.md, "Memory in proportion").
+NpfModel read_npf_texture_parts(const std::string& path, std::unique_ptr<NpfTexturePartSource> source,
+                                std::uint64_t stored_bytes = 0);
+// Real factor textures hold 1.2 to 2.3 times their size in tables (float tables barely compress).
+inline constexpr std::uint64_t kMaxTableExpansion = 16;
+inline constexpr std::uint64_t kTableExpansionAllowance = std::uint64_t(16) << 20;
 
 }  // namespace npf

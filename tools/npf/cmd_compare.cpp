@@ -6,8 +6,10 @@
 
 #include <npf/core/number_text.h>
 #include "commands.h"
+#include "file_uses.h"
 
 #include <npf/color/display_image.h>
+#include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 #include <npf/core/json_text.h>
 #include <npf/core/input_file.h>
@@ -149,6 +151,13 @@ int run_compare(const std::vector<std::string>& args) {
         cl.has("--heatmap-max") ? parse_heatmap_max(cl.value("--heatmap-max")) : render::kHeatmapMax;
 
     const std::string reference_path = cl.positional()[0], test_path = cl.positional()[1];
+    if (cl.has("--heatmap")) {
+        FileUses uses;
+        uses.input(reference_path, "REF").input(test_path, "TEST");
+        for (const std::string& f : floor_args.images) uses.input(f, "--floor");
+        uses.output(cl.value("--heatmap"), "--heatmap").check();
+        check_output_path(cl.value("--heatmap"));  // before the images are read
+    }
     const color::FloatImage reference = read_image(reference_path);
     const color::FloatImage test = read_image(test_path);
     const render::ImageMetrics m = render::compare_images(reference, test, options, reference_path, test_path);

@@ -1,6 +1,7 @@
 // npf convert: a measured (or analytic) material to an NPF factor texture (docs/format.md).
 #include "command_line.h"
 #include "commands.h"
+#include "file_uses.h"
 #include "progress.h"
 
 #include <npf/converter/convert.h>
@@ -61,6 +62,7 @@ int run_convert(const std::vector<std::string>& args) {
         if (!cl.has(flag)) given.emplace_back();
         else given.push_back(check_setting(row, row.kind == SettingKind::Switch ? "true" : cl.value(flag), flag));
     }
+    FileUses().input(input, "the input").output(output, "-o").check();
     const std::unique_ptr<Brdf> source = open_material(input);
     ConvertSettings s = resolve_convert_settings(
         table, [&](const ConvertSettingRow& row) { return given[std::size_t(&row - table.data())]; },

@@ -2,6 +2,7 @@
 // display-encoded 8-bit PNG through OpenColorIO; --list shows the config's displays and views.
 #include "command_line.h"
 #include "commands.h"
+#include "file_uses.h"
 
 #include <npf/color/display.h>
 #include <npf/color/display_image.h>
@@ -67,6 +68,10 @@ int run_display(const std::vector<std::string>& args) {
     options.display = cl.value("--display");
     options.view = cl.value("--view");
     const color::DisplayTransform transform(options);  // before reading: a bad flag fails fast
+    FileUses uses;
+    uses.input(cl.positional()[0], "the input");
+    if (!options.config_path.empty()) uses.input(options.config_path, "--config");
+    uses.output(cl.value("-o"), "-o").check();
     check_output_path(cl.value("-o"));
     const color::FloatImage image = color::read_scene_image(cl.positional()[0]);
     color::write_display_png(cl.value("-o"), image, transform);

@@ -4,6 +4,7 @@
 // (npf/edit/edit_kinds.h), which also give the edit flags and their help.
 #include "command_line.h"
 #include "commands.h"
+#include "file_uses.h"
 #include "progress.h"
 
 #include <npf/core/atomic_file.h>
@@ -74,7 +75,14 @@ int run_edit(const std::vector<std::string>& args) {
     const std::vector<edit::EditStep>& steps = request.steps;
     edit::EditOptions& options = request.options;
     edit::require_npf_textures(input, request);
-    if (!dry) check_output_path(output);  // a destination that cannot be written fails now, not after the edits
+    if (!dry) {
+        FileUses uses;
+        uses.input(input, "the input");
+        if (cl.has("--recipe")) uses.input(cl.value("--recipe"), "--recipe");
+        for (const auto& [flag, value] : given) uses.input(value, flag);  // flags that name files (materials, spectra)
+        uses.output(output, "-o").check();
+        check_output_path(output);  // a destination that cannot be written fails now, not after the edits
+    }
     const NpfModel model = read_npf_texture(input);
     std::printf("%s: %s, %zu %s, D %d x %d, G %d x %d; %zu step%s\n", input.c_str(), model.isotropic() ? "isotropic" : "anisotropic",
                 model.channel_count(), model.channels.is_rgb() ? "RGB channels" : "wavelengths", model.d_theta, model.d_phi,

@@ -4,6 +4,7 @@
 
 #include <npf/core/number_text.h>
 #include "commands.h"
+#include "file_uses.h"
 #include "progress.h"
 
 #include <npf/color/display.h>
@@ -107,7 +108,14 @@ int run_render(const std::vector<std::string>& args) {
     const double exposure = cl.number("--exposure", 0.0);
     if (std::fabs(exposure) > 64.0) throw Error("--exposure", "must be within -64..64 stops");
 
-    // A destination that cannot be written fails now, not after the render.
+    // A destination that cannot be written fails now, not after the render; nor may it replace an
+    // input or the other output.
+    FileUses uses;
+    uses.input(material_path, "the material");
+    if (cl.has("--env")) uses.input(cl.value("--env"), "--env");
+    uses.output(output, "-o");
+    if (!png.empty()) uses.output(png, "--png");
+    uses.check();
     check_output_path(output);
     if (!png.empty()) check_output_path(png);
 

@@ -4,6 +4,7 @@
 
 #include <npf/core/number_text.h>
 #include "commands.h"
+#include "file_uses.h"
 #include "progress.h"
 
 #include <npf/converter/data_files.h>
@@ -169,6 +170,9 @@ int run_synth(const std::vector<std::string>& args) {
         throw Error("", "the material reflects nothing: give a recipe, a Fresnel/roughness or --diffuse");
     }
 
+    FileUses uses;
+    if (cl.has("--recipe")) uses.input(cl.value("--recipe"), "--recipe");
+    uses.output(output, "-o").check();
     check_output_path(output);  // a destination that cannot be written fails now, not after the tabulation
     const AnalyticBrdf brdf(recipe.material);
     recipe.writer.ndf = brdf.ndf_function();

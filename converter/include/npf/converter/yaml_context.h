@@ -10,6 +10,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace npf {
@@ -60,5 +61,12 @@ struct YamlContext {
 
     virtual ~YamlContext() = default;
 };
+
+// The files a YAML document names (a recipe's spectra, an edit's source materials): every scalar
+// that is the name of an existing regular file, relative names taken from the document's folder,
+// as (name in the document, resolved path), sorted by name. For checks that concern every input of a
+// command (outputs must not replace one; a batch redoes an edit when one changes). Nothing for a
+// document that does not parse (its own loader reports that) or is above the recipe cap.
+std::vector<std::pair<std::string, std::string>> files_named_in_yaml(const std::string& path);
 
 }  // namespace npf

@@ -83,6 +83,8 @@ public:
     // The model: complete on the memory path; on the texture path its D and G basis tables are
     // empty (they live in the TextureSystem), everything else is there.
     const NpfModel& model() const { return m_model; }
+    // NpfModel::value_bound of the model as read (the texture path's bases are gone after loading).
+    double value_bound() const { return m_value_bound; }
 
     // f_r cos(theta_light) into value[value_count(request)]; returns pdf(view, light).
     float eval(const Vec3& view, const Vec3& light, WavelengthRequest request, float* value) const;
@@ -126,6 +128,7 @@ private:
 
     Path m_path = Path::Memory;
     NpfModel m_model;
+    double m_value_bound = 0.0;
     std::unique_ptr<TextureTables> m_texture;
     HalfVectorSampler m_sampler;
     WavelengthLocator m_wavelengths;  // the stored grid (spectral materials)

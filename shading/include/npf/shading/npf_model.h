@@ -112,6 +112,9 @@ struct NpfModel {
     // these against the header before it allocates anything, so a small file cannot claim gigabytes.
     static constexpr std::size_t kMaxTableCells = std::size_t(1) << 20;
     static constexpr std::size_t kMaxBasisValues = std::size_t(1) << 25;
+    // Channels x D's rank x D's cells (the work of building the half-vector sampler, seconds at
+    // this cap; a full-rank 195-wavelength anisotropic model at the paper's size is 6e8).
+    static constexpr double kMaxSamplerWork = 4294967296.0;
 
     // Everything about one direction pair that every channel shares. No member initialisers:
     // prepare() fills every field, and the shading hot path should not pay for zeroing.
