@@ -1,5 +1,6 @@
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/core/input_file.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -105,6 +106,7 @@ void check_output_path(const std::string& path) {
 AtomicOutput::AtomicOutput(std::string path) : m_final(std::move(path)) {
     if (m_final.empty()) throw Error("", "the output file name is empty");
     if (m_final.back() == '/') throw Error(m_final, "ends in '/': names a folder, not a file");
+    check_file_name(m_final);
 
     // What is there decides how it is published.
     struct stat st {};

@@ -7,7 +7,12 @@
 
 namespace npf {
 
+void check_file_name(const std::string& path) {
+    if (path.find('\0') != std::string::npos) throw Error(path, "a file name with a NUL byte: refused (the system would read another name)");
+}
+
 std::uint64_t require_regular_file(const std::string& path, const std::string& what) {
+    check_file_name(path);
     struct stat st;
     if (::stat(path.c_str(), &st) != 0) {
         throw Error(path, errno == ENOENT ? std::string("cannot open: file not found")

@@ -21,12 +21,14 @@ pairs at once, not one. Factor textures shade through the batched closure (AVX2 
 it); other sources pair by pair. ``threads=0`` uses every core; the results do not depend on it.
 """
 
+import os as _os
+
 import numpy as _np
 
 from . import _npf
 from ._npf import Error, __version__
 
-__all__ = ["Error", "Material", "open", "convert", "edit", "convert_settings", "edit_flags", "__version__"]
+__all__ = ["Error", "Material", "open", "convert", "edit", "convert_settings", "edit_flags", "MAX_PAIRS", "__version__"]
 
 
 def _error(source, problem):
@@ -36,8 +38,48 @@ def _error(source, problem):
     return e
 
 
+# The most pairs one call takes: its arrays (directions in and out, values) stay within a few
+# GB. More would be allocated whole before anything runs, and past the machine's memory the
+# process is killed without a word; pass larger work in chunks.
+MAX_PAIRS = 1 << 26
+
+
+def _numbers(name, a, dtype):
+    """`a` as an array of real numbers of `dtype`: ragged lists, objects, strings, booleans and
+    complex numbers are npf.Error naming the argument, not a numpy exception or a silent cast."""
+    try:
+        arr = _np.asarray(a)
+    except (ValueError, TypeError) as e:
+        raise _error(name, "not an array of numbers ({})".format(str(e).split(".")[0])) from None
+    if arr.dtype.kind not in "iuf":
+        raise _error(name, "expected real numbers, got an array of {}".format(arr.dtype))
+    return arr.astype(dtype, copy=False)
+
+
+def _threads(threads):
+    if isinstance(threads, bool) or not isinstance(threads, (int, _np.integer)) or not 0 <= threads <= 1024:
+        raise _error("threads", "expected a whole number in 0..1024 (0: every core), got {!r}".format(threads))
+    return int(threads)
+
+
+def _check_pairs(name, n):
+    if n > MAX_PAIRS:
+        raise _error(name, "{} pairs in one call; npf takes at most {} (npf.MAX_PAIRS): pass them in chunks".format(n, MAX_PAIRS))
+
+
+def _path(path):
+    """A file name as text: str, bytes or os.PathLike; a NUL byte is refused (the C side would
+    read the name up to it, another file)."""
+    text = _os.fsdecode(path) if isinstance(path, (bytes, _os.PathLike)) else path
+    if not isinstance(text, str):
+        raise _error(repr(path), "expected a file name (str, bytes or os.PathLike)")
+    if "\0" in text:
+        raise _error(repr(text), "a file name with a NUL byte")
+    return text
+
+
 def _directions(name, a):
-    a = _np.asarray(a, dtype=_np.float64)
+    a = _numbers(name, a, _np.float64)
     if a.ndim == 1:
         a = a[None, :]
     if a.ndim != 2 or a.shape[1] != 3:
@@ -47,6 +89,7 @@ def _directions(name, a):
 
 def _pair_arrays(wi, wo):
     wi, wo = _directions("wi", wi), _directions("wo", wo)
+    _check_pairs("wi, wo", max(wi.shape[0], wo.shape[0]))
     if wi.shape[0] != wo.shape[0]:
         if wi.shape[0] == 1:
             wi = _np.broadcast_to(wi, wo.shape)
@@ -62,7 +105,7 @@ def _wavelengths(wavelengths, n):
     """None, (K,) shared by every pair, or (N, K) per pair (hero wavelengths), as float32 rows."""
     if wavelengths is None:
         return None, False
-    w = _np.ascontiguousarray(_np.asarray(wavelengths, dtype=_np.float32))
+    w = _np.ascontiguousarray(_numbers("wavelengths", wavelengths, _np.float32))
     if w.ndim == 1:
         return w[None, :], False
     if w.ndim == 2 and w.shape[0] == n:
@@ -74,7 +117,7 @@ class Material:
     """A material of any source npf reads; immutable, usable from several threads."""
 
     def __init__(self, path):
-        self._m = _npf._Material(str(path))
+        self._m = _npf._Material(_path(path))
         self._info = self._m.info()
 
     @property
@@ -105,23 +148,25 @@ class Material:
         ``wavelengths`` (nm; (K,) for every pair or (N, K) per pair, spectral files only)."""
         wi, wo = _pair_arrays(wi, wo)
         nm, per_pair = _wavelengths(wavelengths, wi.shape[0])
-        return self._m.eval(wi, wo, nm, per_pair, bool(cos), int(threads))
+        return self._m.eval(wi, wo, nm, per_pair, bool(cos), _threads(threads))
 
     def pdf(self, wi, wo, threads=0):
         """The density (1/sr) with which :meth:`sample` draws wo given wi, shape (N,)."""
         wi, wo = _pair_arrays(wi, wo)
-        return self._m.pdf(wi, wo, int(threads))
+        return self._m.pdf(wi, wo, _threads(threads))
 
     def sample(self, wi, u, wavelengths=None, threads=0):
         """Draws wo given wi from uniform numbers u (N, 2) in [0, 1). Returns (wo (N, 3), pdf (N,),
         weight (N, channels)), the weight being f_r cos(theta_o) / pdf; a pair that draws
         nothing has wo 0, pdf 0 and weight 0."""
-        wi = _np.ascontiguousarray(_directions("wi", wi))
-        u = _np.asarray(u, dtype=_np.float64)
+        wi = _directions("wi", wi)
+        u = _numbers("u", u, _np.float64)
         if u.ndim == 1:
             u = u[None, :]
         if u.ndim != 2 or u.shape[1] != 2:
             raise _error("u", "expected an (N, 2) array of uniform numbers, got shape {}".format(u.shape))
+        _check_pairs("wi, u", max(wi.shape[0], u.shape[0]))
+        wi = _np.ascontiguousarray(wi)
         if wi.shape[0] == 1 and u.shape[0] > 1:
             wi = _np.ascontiguousarray(_np.broadcast_to(wi, (u.shape[0], 3)))
         elif u.shape[0] == 1 and wi.shape[0] > 1:
@@ -133,7 +178,7 @@ class Material:
             i, k = _np.argwhere(outside)[0]
             raise _error("u[{}, {}]".format(i, k), "not a uniform number in [0, 1): {}".format(u[i, k]))
         nm, per_pair = _wavelengths(wavelengths, wi.shape[0])
-        return self._m.sample(wi, _np.ascontiguousarray(u), nm, per_pair, int(threads))
+        return self._m.sample(wi, _np.ascontiguousarray(u), nm, per_pair, _threads(threads))
 
     def __repr__(self):
         i = self._info
@@ -172,7 +217,7 @@ def convert(source, output, progress=None, **settings):
     called as the work proceeds. Returns the report (errors, ranks, predicted PSNR, seconds, ...)
     as a dict. The output is published whole or not at all."""
     pairs = [(key, _setting_text(value)) for key, value in settings.items()]
-    return _npf.convert(str(source), str(output), pairs, progress)
+    return _npf.convert(_path(source), _path(output), pairs, progress)
 
 
 def edit_flags():
@@ -199,5 +244,5 @@ def edit(source, output=None, recipe=None, dry_run=False, **edits):
             flags.append((flag, _setting_text(value)))
     if output is None and not dry_run:
         raise _error("edit", "an output file is needed (or dry_run=True)")
-    return _npf.edit(str(source), "" if output is None else str(output), "" if recipe is None else str(recipe), flags,
+    return _npf.edit(_path(source), "" if output is None else _path(output), "" if recipe is None else _path(recipe), flags,
                      bool(dry_run))

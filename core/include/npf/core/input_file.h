@@ -12,4 +12,8 @@ namespace npf {
 // the expected kind in messages ("a file", "a MERL file", "a recipe"). Throws npf::Error.
 std::uint64_t require_regular_file(const std::string& path, const std::string& what = "a file");
 
+// Throws npf::Error when `path` holds a NUL byte: the system would take the name up to it, another
+// file (a name from Python or a configuration can hold one).
+void check_file_name(const std::string& path);
+
 }  // namespace npf
