@@ -43,6 +43,37 @@ def tensor_file(fields):
     return bytes(out)
 
 
+DTYPE_SIZE = {1: 1, 2: 1, 3: 2, 4: 2, 5: 4, 6: 4, 7: 8, 8: 8, 9: 2, 10: 4, 11: 8}
+
+
+def tensor_fields(data):
+    """The fields of a tensor_file as tensor_file() takes them, payloads copied out."""
+    count = struct.unpack_from("<I", data, 14)[0]
+    pos, fields = 18, []
+    for _ in range(count):
+        n = struct.unpack_from("<H", data, pos)[0]
+        name = data[pos + 2:pos + 2 + n].decode()
+        rank, code, offset = struct.unpack_from("<HBQ", data, pos + 2 + n)
+        shape = list(struct.unpack_from("<%dQ" % rank, data, pos + 2 + n + 11))
+        pos += 2 + n + 11 + 8 * rank
+        size = DTYPE_SIZE[code]
+        for e in shape:
+            size *= e
+        fields.append([name, code, shape, data[offset:offset + size], None])
+    return fields
+
+
+def patched_rgl(data, edit):
+    """A real RGL file's fields, changed by edit(fields), written again."""
+    fields = tensor_fields(data)
+    edit(fields)
+    return tensor_file([tuple(f) for f in fields])
+
+
+def field(fields, name):
+    return next(f for f in fields if f[0] == name)
+
+
 def first_line(text):
     for line in text.splitlines():
         if line.strip():
@@ -51,23 +82,46 @@ def first_line(text):
 
 
 class Catalogue:
-    def __init__(self, npf, work):
-        self.npf, self.work, self.rows, self.failed = npf, work, [], 0
+    def __init__(self, npf, work, baseline=None):
+        self.npf, self.work, self.rows, self.failed, self.baseline = npf, work, [], 0, baseline
 
     def path(self, name):
         return os.path.join(self.work, name)
 
-    def run(self, args, fsize_kib=None, timeout=600):
-        pre = None
-        if fsize_kib is not None:
-            import resource
-            import signal
+    def run(self, args, fsize_kib=None, timeout=600, npf=None, stdin=None, memory_gib=None):
+        import resource
+        import signal
 
-            def pre():
+        def pre():
+            if fsize_kib is not None:
                 signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
                 resource.setrlimit(resource.RLIMIT_FSIZE, (fsize_kib * 1024, fsize_kib * 1024))
-        p = subprocess.run([self.npf] + args, capture_output=True, text=True, preexec_fn=pre, timeout=timeout)
+            if memory_gib is not None:
+                resource.setrlimit(resource.RLIMIT_AS, (memory_gib << 30, memory_gib << 30))
+        try:
+            with open(stdin, "rb") if stdin else open(os.devnull, "rb") as source:
+                p = subprocess.run([npf or self.npf] + args, capture_output=True, text=True, errors="replace", preexec_fn=pre,
+                                   timeout=timeout, stdin=source)
+        except subprocess.TimeoutExpired:
+            return -1, "still running after %d s: stopped" % timeout
+        if p.returncode < 0:
+            return p.returncode, "killed by signal %d%s" % (-p.returncode, (": " + first_line(p.stderr)) if p.stderr.strip() else "")
         return p.returncode, first_line(p.stderr) or first_line(p.stdout)
+
+    def case(self, what, shown_command, setup, args, expect, check=None, **run_options):
+        """One case run on the baseline binary (when given: what main did before) and on this
+        build, each from a fresh setup(); check(status) says whether what is left is right."""
+        before = ""
+        if self.baseline:
+            setup()
+            b_status, b_msg = self.run(args, npf=self.baseline, **run_options)
+            b_ok = (b_status == expect) and (check is None or check(b_status))
+            before = "%d: %s" % (b_status, b_msg.replace(self.work + "/", "").replace("|", "\\|")[:120])
+            if not b_ok:
+                before += " (broken)"
+        setup()
+        status, msg = self.run(args, **run_options)
+        self.row(what, shown_command, expect, status, msg, check is None or check(status), before)
 
     def row(self, what, shown_command, expect, status, message, extra_ok=True, extra=""):
         ok = (status == expect if isinstance(expect, int) else status in expect) and extra_ok
@@ -83,14 +137,108 @@ class Catalogue:
         return sorted(set(os.listdir(folder)) - set(keep))
 
 
+def issue_33_cases(c, good, raw):
+    """Issue 33's classes: what a material can produce, bounded text, outputs that alias inputs,
+    loose validation, names that split lines (docs/reliability.md sec. 4)."""
+    p = c.path
+    nothing = lambda: None  # noqa: E731
+
+    # Bounded text.
+    zeros = p("zeros.txt")
+    open(zeros, "wb").close()
+    os.truncate(zeros, 3 << 30)
+    small = p("m33.exr")
+    subprocess.run([c.npf, "convert", good, "-o", small, "--preset", "preview", "--no-predict", "--quiet"], check=True)
+    c.case("3 GB of zeros on standard input (/dev/zero)", "npf eval m.exr < zeros", nothing, ["eval", small], 1,
+           stdin=zeros, timeout=60, memory_gib=2)
+    big_recipe = p("big.yaml")
+    c.case("a 2 MiB recipe of zeros", "npf info big.yaml",
+           lambda: (open(big_recipe, "wb").close(), os.truncate(big_recipe, 2 << 20)), ["info", big_recipe], 1, timeout=60)
+
+    # What a material can produce: products of tables each under the 1e12 cap.
+    copper = p("copper.exr")
+    subprocess.run([c.npf, "convert", "configs/materials/brushed_copper.yaml", "-o", copper, "--preset", "preview",
+                    "--no-predict", "--quiet"], check=True)
+    huge = p("huge.exr")
+    made = subprocess.run(["oiiotool", "-a", copper, "--mulc", "1e4", "--eraseattrib", "npf:tables_checksum", "-d", "float",
+                           "-o", huge], capture_output=True)
+    if made.returncode == 0:
+        c.case("a factor texture with every table times 1e4 (each value under the cap, no checksum)", "npf info --check huge.exr",
+               nothing, ["info", "--check", huge], 1)
+        c.case("the same, evaluated", "npf eval huge.exr --dirs probe_dirs.txt", nothing,
+               ["eval", huge, "--dirs", "data/materials/probe_dirs.txt"], 1)
+        out = p("from_huge.exr")
+        c.case("the same, converted", "npf convert huge.exr -o out.exr", lambda: os.path.exists(out) and os.remove(out),
+               ["convert", huge, "-o", out, "--preset", "preview", "--no-predict"], 1, lambda s: not os.path.exists(out))
+        c.case("the same, capped at albedo 1", "npf edit huge.exr -o out.exr --limit-albedo 1",
+               lambda: os.path.exists(out) and os.remove(out), ["edit", huge, "-o", out, "--limit-albedo", "1"], 1,
+               lambda s: not os.path.exists(out))
+
+    def tiny_sigma(fields):
+        f = field(fields, "sigma")
+        f[3] = struct.pack("<f", 1e-40) + f[3][4:]
+    sigma = p("sigma.bsdf")
+    c.case("an RGL file whose projected area sigma is 1e-40 at one node", "npf render sigma.bsdf -o r.exr",
+           lambda: open(sigma, "wb").write(patched_rgl(raw, tiny_sigma)),
+           ["render", sigma, "-o", p("r.exr"), "--size", "16", "--spp", "4", "--quiet"], 1)
+    needle = p("needle.yaml")
+    c.case("an analytic lobe of roughness 1e-4 and weight 1e6", "npf info needle.yaml",
+           lambda: open(needle, "w").write("lobes:\n  - {distribution: ggx, alpha: 0.0001, weight: 1000000}\n"),
+           ["info", needle], 1)
+
+    # Outputs against each other and the inputs.
+    m = p("alias.exr")
+    def fresh_alias():
+        shutil.copy(small, m)
+        for f in ("hard.exr", "x"):
+            if os.path.lexists(p(f)):
+                os.remove(p(f))
+        os.link(m, p("hard.exr"))
+    intact = lambda s: open(m, "rb").read() == open(small, "rb").read()  # noqa: E731
+    c.case("a render over its own material", "npf render m.exr -o m.exr", fresh_alias,
+           ["render", m, "-o", m, "--size", "8", "--spp", "1", "--quiet"], 1, intact)
+    c.case("-o and --png naming one file", "npf render m.exr -o x --png x", fresh_alias,
+           ["render", m, "-o", p("x"), "--png", p("x"), "--size", "8", "--spp", "1", "--quiet"], 1,
+           lambda s: not os.path.exists(p("x")))
+    c.case("a conversion onto a hard link of its input", "npf convert m.exr -o hard.exr", fresh_alias,
+           ["convert", m, "-o", p("hard.exr"), "--preset", "preview", "--no-predict"], 1, intact)
+
+    # Loose validation made strict.
+    def set_u8(name, value):
+        def edit(fields):
+            field(fields, name)[3] = bytes([value])
+        return edit
+
+    def short_valid(fields):
+        f = field(fields, "valid")
+        f[2], f[3] = [3], f[3][:3]
+
+    def version_9_9(fields):
+        field(fields, "version")[3] = struct.pack("<II", 9, 9)
+
+    def rgb_and_spectra(fields):
+        rgb = field(fields, "rgb")
+        fields.append(["spectra", rgb[1], list(rgb[2]), rgb[3], None])
+        fields.append(["wavelengths", 10, [3], struct.pack("<3f", 450, 550, 650), None])
+    for what, name, edit in [("an RGL file with jacobian = 7", "jacobian7.bsdf", set_u8("jacobian", 7)),
+                             ("an RGL file with a 3-byte valid mask", "valid3.bsdf", short_valid),
+                             ("an RGL file of version 9.9", "version.bsdf", version_9_9),
+                             ("an RGL file with both rgb and spectra", "both.bsdf", rgb_and_spectra)]:
+        f = p(name)
+        c.case(what, "npf info " + name, lambda f=f, edit=edit: open(f, "wb").write(patched_rgl(raw, edit)), ["info", f], 1)
+    odd = p("two\nlines.bsdf")
+    c.case("a newline in a file name", "npf info 'two\\nlines.bsdf'", lambda: open(odd, "wb").write(b"junk"), ["info", odd], 1)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--npf", default="build/tools/npf/npf")
     ap.add_argument("--rgl", default="../shared/data/rgl")
+    ap.add_argument("--baseline", help="another npf (an earlier build): its result beside each issue 33 case")
     a = ap.parse_args()
     npf = os.path.abspath(a.npf)
     work = tempfile.mkdtemp(prefix="npf-hostile-")
-    c = Catalogue(npf, work)
+    c = Catalogue(npf, work, os.path.abspath(a.baseline) if a.baseline else None)
     p = c.path
     good = os.path.join(a.rgl, "ilm_l3_37_metallic_rgb.bsdf")
     if not os.path.exists(good):
@@ -184,7 +332,10 @@ def main():
     c.row("a batch whose input glob covers its own output folder, run three times", "npf batch batch.yaml",
           0, max(runs), "outputs after three runs: " + ", ".join(files), files == ["m_npf.exr"])
 
-    print("| input or output | command | exit | what it gets (first line) | also |")
+    issue_33_cases(c, good, raw)
+
+    print("| input or output | command | exit | what it gets (first line) | also%s |" %
+          (" / main 2821a5e: exit, first line" if c.baseline else ""))
     print("|---|---|---|---|---|")
     for r in c.rows:
         print(r)

@@ -49,7 +49,14 @@ std::unique_ptr<Brdf> open_material_file(const std::string& path) {
 }  // namespace
 
 std::unique_ptr<Brdf> open_material(const std::string& path) {
-    if (ends_with(path, ".yaml") || ends_with(path, ".yml")) return std::make_unique<AnalyticBrdf>(load_material_recipe(path).material);
+    if (ends_with(path, ".yaml") || ends_with(path, ".yml")) {
+        const MaterialRecipe recipe = load_material_recipe(path);
+        try {
+            return std::make_unique<AnalyticBrdf>(recipe.material);
+        } catch (const Error& e) {
+            throw Error(path, e.problem());  // named by the recipe's file, not its material's name
+        }
+    }
     return open_material_file(path);
 }
 

@@ -174,7 +174,14 @@ int run_synth(const std::vector<std::string>& args) {
     if (cl.has("--recipe")) uses.input(cl.value("--recipe"), "--recipe");
     uses.output(output, "-o").check();
     check_output_path(output);  // a destination that cannot be written fails now, not after the tabulation
-    const AnalyticBrdf brdf(recipe.material);
+    const AnalyticBrdf brdf = [&] {
+        try {
+            return AnalyticBrdf(recipe.material);
+        } catch (const Error& e) {
+            if (!cl.has("--recipe")) throw;
+            throw Error(cl.value("--recipe"), e.problem());  // named by the recipe's file
+        }
+    }();
     recipe.writer.ndf = brdf.ndf_function();
     ProgressBar bar("synth " + output, !cl.has("--quiet"));
     if (bar.enabled()) recipe.writer.progress = [&bar](double f) { bar.update(f); };
