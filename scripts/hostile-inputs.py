@@ -226,6 +226,16 @@ def issue_33_cases(c, good, raw):
                              ("an RGL file with both rgb and spectra", "both.bsdf", rgb_and_spectra)]:
         f = p(name)
         c.case(what, "npf info " + name, lambda f=f, edit=edit: open(f, "wb").write(patched_rgl(raw, edit)), ["info", f], 1)
+    # Images npf reads as data: regular files of a format known by its first bytes.
+    fifo_env = p("env_fifo.exr")
+    c.case("a FIFO as the environment map", "npf render m.exr --env fifo.exr",
+           lambda: os.path.exists(fifo_env) or os.mkfifo(fifo_env),
+           ["render", small, "-o", p("e.exr"), "--env", fifo_env, "--size", "8", "--spp", "1", "--quiet"], 1, timeout=20)
+    null_env = p("x.null?RES=20000x20000")
+    c.case("an environment map whose name OpenImageIO takes parameters from", "npf render m.exr --env 'x.null?RES=20000x20000'",
+           lambda: open(null_env, "wb").close(),
+           ["render", small, "-o", p("e.exr"), "--env", null_env, "--size", "8", "--spp", "1", "--quiet"], 1, timeout=60,
+           memory_gib=8)
     odd = p("two\nlines.bsdf")
     c.case("a newline in a file name", "npf info 'two\\nlines.bsdf'", lambda: open(odd, "wb").write(b"junk"), ["info", odd], 1)
 

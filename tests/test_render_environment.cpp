@@ -13,6 +13,8 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -284,7 +286,16 @@ TEST(RenderEnvironment, LoadsFilesAndNamesThemInErrors) {
     expect_error(dir, "directory");
     const std::string text = (fs::path(dir) / "text.exr").string();
     std::ofstream(text) << "not an image\n";
-    expect_error(text, "cannot read");
+    expect_error(text, "not an environment map npf reads");
+    // What never ends or blocks, and a name OpenImageIO's readers would take parameters from (its
+    // null reader made a 20000 x 20000 image from the name alone and aborted).
+    expect_error("/dev/zero", "is not a regular file");
+    const std::string fifo = (fs::path(dir) / "fifo.exr").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    expect_error(fifo, "is not a regular file");
+    const std::string named = (fs::path(dir) / "x.null?RES=20000x20000").string();
+    std::ofstream(named) << "";
+    expect_error(named, "not an environment map npf reads");
     const std::string two = (fs::path(dir) / "two.exr").string();
     write_exr(two, 1, 1, 2, {1.f, 1.f});
     expect_error(two, "2 channels");

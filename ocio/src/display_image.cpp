@@ -1,5 +1,6 @@
 // read_scene_image and write_display_png: OpenImageIO on either side of a DisplayTransform.
 #include <npf/color/display_image.h>
+#include <npf/color/image_file.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 #include <npf/core/openexr_header.h>
@@ -26,12 +27,7 @@ std::uint8_t to_8bit(float v) {
 }  // namespace
 
 FloatImage read_scene_image(const std::string& path) {
-    // An OpenEXR image's headers are checked before OpenEXR sizes anything by them (at most 2^28
-    // pixels, 16384 x 16384); other formats go straight to OpenImageIO.
-    const std::string exr_problem = openexr_header_problem(path, std::uint64_t(1) << 28);
-    if (!exr_problem.empty() && exr_problem != "not an OpenEXR file") throw Error(path, exr_problem);
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
-    if (!in) throw Error(path, "cannot read the image: " + first_line(OIIO::geterror()));
+    std::unique_ptr<OIIO::ImageInput> in = open_image_file(path, "an image");
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.nchannels < 3)
         throw Error(path, "has " + std::to_string(spec.nchannels) +

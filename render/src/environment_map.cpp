@@ -1,5 +1,7 @@
 #include <npf/render/environment_map.h>
 
+#include <npf/color/image_file.h>
+
 #include <npf/core/error.h>
 #include <npf/core/openexr_header.h>
 #include <npf/core/rec709_luminance.h>
@@ -64,15 +66,7 @@ EnvironmentMap EnvironmentMap::constant(float r, float g, float b) {
 }
 
 EnvironmentMap EnvironmentMap::load(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw Error(path, "environment map not found");
-    if (std::filesystem::is_directory(path, ec)) throw Error(path, "environment map is a directory, not an image");
-    // An OpenEXR map's headers are checked before OpenEXR sizes anything by them (a 2^28-pixel
-    // map, 16384 x 16384, is far above any studio map).
-    const std::string exr_problem = openexr_header_problem(path, std::uint64_t(1) << 28);
-    if (!exr_problem.empty() && exr_problem != "not an OpenEXR file") throw Error(path, exr_problem);
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
-    if (!in) throw Error(path, "cannot read the environment map: " + first_line(OIIO::geterror()));
+    std::unique_ptr<OIIO::ImageInput> in = color::open_image_file(path, "an environment map");
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1) throw Error(path, "environment map is not a 2D image");
     const int nc = spec.nchannels;
