@@ -185,6 +185,15 @@ TEST(HostileCauses, AConversionStagesErrorNamesTheMaterial) {
     EXPECT_FALSE(fs::exists(file("stage.exr")));
 }
 
+TEST(HostileCauses, TheTexturePathReadsAFactorTextureAsOpenExrWhateverItsName) {
+    // OpenImageIO picks a reader by the extension, and its null reader takes parameters from the
+    // name: this file was read as a 20000 x 20000 procedural image (refused as 6.4 GB, by luck).
+    const std::string odd = file("q.null?RES=20000x20000");
+    fs::copy_file(small_texture(), odd);
+    const ToolRun run = run_tool({"info", "--check", odd});
+    EXPECT_EQ(run.status, 0) << describe(run);
+}
+
 // ---- class 10: loose validation made strict -------------------------------------------------
 
 std::string rgl_with(const std::string& name, const std::function<void(Fields&)>& edit) {

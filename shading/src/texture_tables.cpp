@@ -27,13 +27,25 @@ OIIO::TextureOpt lookup_options(int subimage, int first_channel) {
     return opt;
 }
 
+// The OpenEXR reader, whatever the file's name says (ImageCache::add_file's creator).
+OIIO::ImageInput* openexr_input() { return OIIO::ImageInput::create("openexr").release(); }
+
 }  // namespace
 
 NpfClosure::TextureTables::TextureTables(const std::string& path, OIIO::TextureSystem* host)
     : m_path(path), m_ts(host), m_name(path) {
     if (!m_ts) {
-        m_ts = OIIO::TextureSystem::create(/*shared=*/false);
-        if (!m_ts) throw Error(path, "cannot create a TextureSystem");
+        // Our own cache, told that this file is OpenEXR: by default OpenImageIO picks a reader by
+        // the name's extension, and some readers take parameters from the name itself (a factor
+        // texture named x.null?RES=20000x20000 was read as a 20000 x 20000 procedural image).
+        m_cache = OIIO::ImageCache::create(/*shared=*/false);
+        if (!m_cache) throw Error(path, "cannot create an ImageCache");
+        m_cache->add_file(m_name, &openexr_input);
+        m_ts = OIIO::TextureSystem::create(/*shared=*/false, m_cache);
+        if (!m_ts) {
+            OIIO::ImageCache::destroy(m_cache);
+            throw Error(path, "cannot create a TextureSystem");
+        }
         m_owned = true;
         // Every basis of a part in one tile (docs/format.md sec. 6).
         m_ts->attribute("max_tile_channels", 1 << 16);
@@ -42,6 +54,7 @@ NpfClosure::TextureTables::TextureTables(const std::string& path, OIIO::TextureS
 
 NpfClosure::TextureTables::~TextureTables() {
     if (m_owned) OIIO::TextureSystem::destroy(m_ts);
+    if (m_cache) OIIO::ImageCache::destroy(m_cache);
 }
 
 NpfModel NpfClosure::TextureTables::read_model() {

@@ -8,6 +8,7 @@
 #include <npf/shading/npf_closure.h>
 #include <npf/shading/npf_model.h>
 
+#include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/texture.h>
 
 #include <string>
@@ -38,6 +39,7 @@ private:
 
     std::string m_path;
     OIIO::TextureSystem* m_ts = nullptr;
+    OIIO::ImageCache* m_cache = nullptr;  // ours, when the TextureSystem is
     bool m_owned = false;
     OIIO::ustring m_name;
     OIIO::TextureSystem::TextureHandle* m_handle = nullptr;
