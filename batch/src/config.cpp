@@ -440,6 +440,33 @@ std::string canonical_settings(const Settings& settings) {
 
 namespace {
 
+// The material files a glob matches. The batch's own files are left out first (`excluded`; a
+// FIFO at an output's name is one of them), then what is not a material file, said in a warning
+// naming it, never silently; `where` ("config.yaml:3") begins the warnings.
+std::vector<std::string> glob_materials(const std::string& pattern, const std::string& where, const OwnFiles& own, BatchConfig& c) {
+    std::vector<std::string> matches;
+    std::size_t own_matched = 0, special = 0;
+    for (const std::string& m : expand_glob(pattern)) {
+        std::error_code ec;
+        if (fs::is_directory(m, ec)) continue;
+        if (!own.kind(m).empty()) {
+            ++own_matched;
+            if (std::find(c.excluded.begin(), c.excluded.end(), m) == c.excluded.end()) c.excluded.push_back(m);
+        } else if (const std::string why = not_a_material_file(m); !why.empty()) {
+            ++special;
+            c.warnings.push_back(where + ": '" + pattern + "' matches " + m + ", " + why + ": not a material file, left out");
+        } else {
+            matches.push_back(m);
+        }
+    }
+    if (matches.empty() && own_matched > 0)
+        c.warnings.push_back(where + ": '" + pattern + "' matches only files the batch writes (" + std::to_string(own_matched) +
+                             " left out: outputs, summaries, its work folder)");
+    else if (matches.empty() && special == 0)
+        c.warnings.push_back(where + ": '" + pattern + "' matches no file");
+    return matches;
+}
+
 BatchConfig parse_config(const std::string& yaml, const std::string& source, const std::string& base_dir, const std::string& config_path) {
     Reader rd;
     rd.source = source;
@@ -500,28 +527,7 @@ BatchConfig parse_config(const std::string& yaml, const std::string& source, con
     for (const YAML::Node& n : entries) {
         const std::string pattern = rd.path(n, "inputs");
         if (has_wildcard(pattern)) {
-            // The batch's own files are left out first (a FIFO at an output's name is one of
-            // them), then what is not a material file: said in a warning, naming it, never silently.
-            std::vector<std::string> matches;
-            std::size_t own_matched = 0, special = 0;
-            for (const std::string& m : expand_glob(pattern)) {
-                std::error_code ec;
-                if (fs::is_directory(m, ec)) continue;
-                if (!own.kind(m).empty()) {
-                    ++own_matched;
-                    if (std::find(c.excluded.begin(), c.excluded.end(), m) == c.excluded.end()) c.excluded.push_back(m);
-                } else if (const std::string why = not_a_material_file(m); !why.empty()) {
-                    ++special;
-                    c.warnings.push_back(rd.where(n) + ": '" + pattern + "' matches " + m + ", " + why + ": not a material file, left out");
-                } else {
-                    matches.push_back(m);
-                }
-            }
-            if (matches.empty() && own_matched > 0)
-                c.warnings.push_back(rd.where(n) + ": '" + pattern + "' matches only files the batch writes (" + std::to_string(own_matched) +
-                                     " left out: outputs, summaries, its work folder)");
-            else if (matches.empty() && special == 0) c.warnings.push_back(rd.where(n) + ": '" + pattern + "' matches no file");
-            for (const std::string& m : matches) {
+            for (const std::string& m : glob_materials(pattern, rd.where(n), own, c)) {
                 if (seen_paths.insert(m).second) add(stem_of(m), m, rd.where(n), n, "inputs");
             }
         } else {
