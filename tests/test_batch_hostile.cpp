@@ -587,6 +587,22 @@ TEST(BatchHostile, ControlCharactersInNamesStayOnOneLine) {
     EXPECT_TRUE(contains(md, "\n| esc\\x1b[31mred | converted | ")) << md;
 }
 
+// An edit recipe that is a FIFO (or a device) fails its material at once: hashing it used to wait
+// for a writer, holding a worker until its time_limit (6 h by default) and an --in-process batch
+// for ever.
+TEST(BatchHostile, AnEditRecipeThatIsAFifoFailsAtOnce) {
+    const std::string dir = library("batch-hostile-edit-fifo", {"glossy"});
+    ASSERT_EQ(::mkfifo((dir + "/pipe.yaml").c_str(), 0644), 0);
+    const std::string cfg = write_batch_config(dir + "/b.yaml", dir + "/in", dir + "/out", "  edit: pipe.yaml\n  time_limit: 60\n");
+    RunOptions o;
+    o.deadline_s = 30;
+    for (const std::vector<std::string>& args : {std::vector<std::string>{"batch", cfg}, std::vector<std::string>{"batch", cfg, "--in-process"}}) {
+        const ToolRun r = run(args, o);
+        EXPECT_EQ(r.status, 4) << describe(r);
+        EXPECT_TRUE(contains(r.err, "npf batch: failed: glossy: " + dir + "/pipe.yaml: is not a regular file: not read\n")) << describe(r);
+    }
+}
+
 // The configuration and the summaries --merge reads are bounded (text_input.h): /dev/zero and a
 // file beyond the cap are refused at once instead of being read until memory runs out.
 TEST(BatchHostile, TextInputsAreBounded) {
