@@ -6,6 +6,7 @@
 #include <npf/core/error.h>
 #include <npf/core/number_text.h>
 #include <npf/core/text.h>
+#include <npf/core/text_input.h>
 
 #include <npf/converter/convert_settings_table.h>
 #include <npf/converter/yaml_context.h>
@@ -18,12 +19,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <glob.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <optional>
 #include <set>
-#include <sstream>
 
 namespace npf::batch {
 
@@ -153,18 +156,39 @@ struct Reader : YamlContext {
 
 bool has_wildcard(const std::string& p) { return p.find_first_of("*?[") != std::string::npos; }
 
+// Every name a glob matches, sorted (files, folders, links, FIFOs alike).
 std::vector<std::string> expand_glob(const std::string& pattern) {
     glob_t g{};
     std::vector<std::string> out;
     if (::glob(pattern.c_str(), 0, nullptr, &g) == 0) {
-        for (std::size_t i = 0; i < g.gl_pathc; ++i) {
-            std::error_code ec;
-            if (fs::is_regular_file(g.gl_pathv[i], ec)) out.emplace_back(g.gl_pathv[i]);
-        }
+        for (std::size_t i = 0; i < g.gl_pathc; ++i) out.emplace_back(g.gl_pathv[i]);
     }
     ::globfree(&g);
     std::sort(out.begin(), out.end());
     return out;
+}
+
+// Why a glob's match is not a material file ("a FIFO", "a symbolic link to x, which does not
+// exist"); "" for a regular file (links followed), and for a folder, which a glob such as `lib/*`
+// matches as a matter of course.
+std::string not_a_material_file(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) {
+        if (S_ISREG(st.st_mode) || S_ISDIR(st.st_mode)) return "";
+        if (S_ISFIFO(st.st_mode)) return "a FIFO (named pipe)";
+        if (S_ISSOCK(st.st_mode)) return "a socket";
+        if (S_ISCHR(st.st_mode)) return "a character device";
+        if (S_ISBLK(st.st_mode)) return "a block device";
+        return "not a regular file";
+    }
+    const int e = errno;
+    if (::lstat(path.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
+        std::error_code ec;
+        const fs::path to = fs::read_symlink(path, ec);
+        if (e == ENOENT) return "a symbolic link to " + (ec ? std::string("?") : to.string()) + ", which does not exist";
+        return "a symbolic link that cannot be followed (" + std::string(std::strerror(e)) + ")";
+    }
+    return std::string("a name that cannot be examined (") + std::strerror(e) + ")";
 }
 
 std::string stem_of(const std::string& path) { return fs::path(path).stem().string(); }
@@ -213,10 +237,15 @@ bool fits_naming(const std::string& file, const std::string& naming) {
 bool is_summary_file(const fs::path& p) {
     const std::string ext = p.extension().string();
     if (ext != ".json" && ext != ".md") return false;
-    std::ifstream in(p, std::ios::binary);
+    // A regular file only, opened without waiting: a FIFO named x.json would hold the open.
+    const int fd = ::open(p.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return false;
+    struct stat st {};
     char head[64] = {};
-    in.read(head, sizeof head);
-    std::string text(head, std::size_t(in.gcount()));
+    ssize_t got = -1;
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) got = ::read(fd, head, sizeof head);
+    ::close(fd);
+    std::string text(head, got > 0 ? std::size_t(got) : 0);
     text.erase(std::remove_if(text.begin(), text.end(), [](char c) { return c == ' ' || c == '\n' || c == '\r' || c == '\t'; }),
                text.end());
     return starts_with(text, "{\"npf_batch_summary\"") || starts_with(text, "#npfbatchsummary");
@@ -411,6 +440,33 @@ std::string canonical_settings(const Settings& settings) {
 
 namespace {
 
+// The material files a glob matches. The batch's own files are left out first (`excluded`; a
+// FIFO at an output's name is one of them), then what is not a material file, said in a warning
+// naming it, never silently; `where` ("config.yaml:3") begins the warnings.
+std::vector<std::string> glob_materials(const std::string& pattern, const std::string& where, const OwnFiles& own, BatchConfig& c) {
+    std::vector<std::string> matches;
+    std::size_t own_matched = 0, special = 0;
+    for (const std::string& m : expand_glob(pattern)) {
+        std::error_code ec;
+        if (fs::is_directory(m, ec)) continue;
+        if (!own.kind(m).empty()) {
+            ++own_matched;
+            if (std::find(c.excluded.begin(), c.excluded.end(), m) == c.excluded.end()) c.excluded.push_back(m);
+        } else if (const std::string why = not_a_material_file(m); !why.empty()) {
+            ++special;
+            c.warnings.push_back(where + ": '" + pattern + "' matches " + m + ", " + why + ": not a material file, left out");
+        } else {
+            matches.push_back(m);
+        }
+    }
+    if (matches.empty() && own_matched > 0)
+        c.warnings.push_back(where + ": '" + pattern + "' matches only files the batch writes (" + std::to_string(own_matched) +
+                             " left out: outputs, summaries, its work folder)");
+    else if (matches.empty() && special == 0)
+        c.warnings.push_back(where + ": '" + pattern + "' matches no file");
+    return matches;
+}
+
 BatchConfig parse_config(const std::string& yaml, const std::string& source, const std::string& base_dir, const std::string& config_path) {
     Reader rd;
     rd.source = source;
@@ -471,20 +527,7 @@ BatchConfig parse_config(const std::string& yaml, const std::string& source, con
     for (const YAML::Node& n : entries) {
         const std::string pattern = rd.path(n, "inputs");
         if (has_wildcard(pattern)) {
-            std::vector<std::string> matches = expand_glob(pattern);
-            const std::size_t matched = matches.size();
-            matches.erase(std::remove_if(matches.begin(), matches.end(),
-                                         [&](const std::string& m) {
-                                             if (own.kind(m).empty()) return false;
-                                             if (std::find(c.excluded.begin(), c.excluded.end(), m) == c.excluded.end()) c.excluded.push_back(m);
-                                             return true;
-                                         }),
-                          matches.end());
-            if (matched == 0) c.warnings.push_back(rd.where(n) + ": '" + pattern + "' matches no file");
-            else if (matches.empty())
-                c.warnings.push_back(rd.where(n) + ": '" + pattern + "' matches only files the batch writes (" + std::to_string(matched) +
-                                     " left out: outputs, summaries, its work folder)");
-            for (const std::string& m : matches) {
+            for (const std::string& m : glob_materials(pattern, rd.where(n), own, c)) {
                 if (seen_paths.insert(m).second) add(stem_of(m), m, rd.where(n), n, "inputs");
             }
         } else {
@@ -559,14 +602,9 @@ BatchConfig parse_batch_config(const std::string& yaml, const std::string& sourc
 }
 
 BatchConfig load_batch_config(const std::string& path) {
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) throw Error(path, "is a directory, not a batch configuration");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, "cannot read the batch configuration");
-    std::ostringstream text;
-    text << in.rdbuf();
+    const std::string text = read_text_file(path, "a batch configuration", kConfigTextBounds);
     const fs::path abs = fs::absolute(path).lexically_normal();
-    return parse_config(text.str(), path, abs.parent_path().string(), abs.string());
+    return parse_config(text, path, abs.parent_path().string(), abs.string());
 }
 
 }  // namespace npf::batch

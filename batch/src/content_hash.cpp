@@ -5,8 +5,11 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <memory>
 #include <vector>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace npf::batch {
 
@@ -95,18 +98,29 @@ std::string sha256_hex(const std::string& text) {
 }
 
 std::string sha256_file(const std::string& path) {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!f) throw Error(path, std::string("cannot read: ") + std::strerror(errno));
+    // A regular file only: a FIFO named as a recipe or an environment map would hold the open (or
+    // the read) for ever, /dev/zero would never end. O_NONBLOCK: the open never waits.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) throw Error(path, std::string("cannot read: ") + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        ::close(fd);
+        throw Error(path, "is not a regular file: not read");
+    }
     Sha256 h;
     std::vector<char> buffer(1 << 20);
-    while (true) {
-        const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), f.get());
-        if (n > 0) h.update(buffer.data(), n);
-        if (n < buffer.size()) {
-            if (std::ferror(f.get())) throw Error(path, "read error");
-            break;
+    for (;;) {
+        const ssize_t n = ::read(fd, buffer.data(), buffer.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) {
+            const int e = errno;
+            ::close(fd);
+            throw Error(path, std::string("read error: ") + std::strerror(e));
         }
+        if (n == 0) break;
+        h.update(buffer.data(), std::size_t(n));
     }
+    ::close(fd);
     return h.hex();
 }
 

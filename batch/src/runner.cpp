@@ -4,6 +4,9 @@
 
 #include <npf/batch/content_hash.h>
 #include <npf/core/atomic_file.h>
+#include <npf/core/file_identity.h>
+#include <npf/core/owned_folder.h>
+#include <npf/core/text_input.h>
 #include <npf/converter/convert.h>
 #include <npf/converter/convert_settings_table.h>
 #include <npf/converter/open_material.h>
@@ -32,10 +35,10 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <tuple>
 
 #include <ctime>
 #include <csignal>
-#include <fstream>
 #include <new>
 
 #include <fcntl.h>
@@ -63,8 +66,8 @@ std::string edit_hash_text(const std::string& recipe) {
     const fs::path dir = fs::path(recipe).parent_path();
     std::vector<YAML::Node> todo;
     try {
-        todo.push_back(YAML::LoadFile(recipe));
-    } catch (const YAML::Exception&) {
+        todo.push_back(YAML::Load(read_text_file(recipe, "an edit recipe", kRecipeTextBounds)));
+    } catch (const std::exception&) {
         return t;  // the recipe's own loader reports the problem
     }
     std::map<std::string, std::string> files;
@@ -147,16 +150,19 @@ void fill_from_render_header(MaterialResult& r, const std::map<std::string, std:
     r.relmse = attr_number(h, "npf:batch_relmse");
 }
 
+// The tool named in messages about the places it owns.
+constexpr const char* kOwner = "npf batch";
+
+std::string shard_tag(const Shard& s) { return "shard-" + std::to_string(s.index) + "-of-" + std::to_string(s.count); }
+
 // Holds an exclusive lock on a file for the lifetime of the object (released by the kernel if
-// the process dies).
+// the process dies). The file is the batch's own: made in its work folder, never through a link.
 class FileLock {
 public:
-    explicit FileLock(const std::string& path) {
-        m_fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-        if (m_fd < 0) throw Error(path, std::string("cannot create the lock file: ") + std::strerror(errno));
+    FileLock(const OwnedFolder& folder, const std::string& name) : m_fd(folder.open_file(name, true)) {
         if (::flock(m_fd, LOCK_EX | LOCK_NB) != 0) {
             ::close(m_fd);
-            throw Error(path, "another npf batch is running this shard (the lock is held)");
+            throw Error(folder.path_of(name), "another npf batch is running this shard in this output folder (the lock is held)");
         }
     }
     ~FileLock() { ::close(m_fd); }
@@ -167,21 +173,51 @@ private:
     int m_fd = -1;
 };
 
-void clear_folder(const std::string& dir) {
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(dir, ec)) fs::remove_all(e.path(), ec);
-}
+// The places a run works in: the output folder (the user's: a link to it is followed), and the
+// batch's own, never reached through a link (owned_folder.h): `.npf-batch`, the shard's lock and
+// stage folder (mode 0700: nobody else plants anything in it), `renders/` when first needed.
+class BatchFolders {
+public:
+    BatchFolders(const std::string& output_dir, const Shard& shard)
+        : m_output(OwnedFolder::user_folder(output_dir, kOwner, true)), m_work(m_output.owned_child(".npf-batch")),
+          m_lock(m_work, shard_tag(shard) + ".lock"), m_stage(m_work.owned_child(shard_tag(shard), 0700)) {
+        m_stage.clear();  // what a killed run left
+    }
+    const OwnedFolder& stage() const { return m_stage; }
+    // Refuses a link or a file at `renders` before any work (it is made when first needed).
+    void check_renders() const { m_output.check_owned_child("renders"); }
+    const OwnedFolder& renders() {
+        if (!m_renders) m_renders.emplace(m_output.owned_child("renders"));
+        return *m_renders;
+    }
 
-// A finished file from the staging folder to its place, by the rules every npf output follows
-// (atomic_file.h): a link at the output's name is followed, a FIFO written through, a folder
-// refused, the bytes synced before the name changes.
-void move_into_place(const std::string& from, const std::string& to) {
-    std::error_code ec;
-    fs::create_directories(fs::path(to).parent_path(), ec);
-    publish_staged_file(from, to);
-}
+private:
+    OwnedFolder m_output, m_work;
+    FileLock m_lock;
+    OwnedFolder m_stage;
+    std::optional<OwnedFolder> m_renders;
+};
 
-std::string shard_tag(const Shard& s) { return "shard-" + std::to_string(s.index) + "-of-" + std::to_string(s.count); }
+std::string file_name(const std::string& path) { return fs::path(path).filename().string(); }
+
+// The staged file `name` to its place `to`, by the rules every npf output follows (atomic_file.h):
+// at an output's name a link is followed, a FIFO written through, a folder refused, the bytes
+// synced before the name changes; a validation render is the batch's own file in its own
+// `renders/` folder, where a link is refused.
+void publish_finished(BatchFolders& folders, const std::string& name, const std::string& to, bool render) {
+    const OwnedFolder& stage = folders.stage();
+    try {
+        if (render) {
+            const OwnedFolder& renders = folders.renders();
+            const std::string file = file_name(to);
+            publish_staged_file(stage.through(name), renders.through(file), OutputOptions{kOwner, renders.path_of(file)});
+        } else {
+            publish_staged_file(stage.through(name), to);
+        }
+    } catch (const Error& e) {
+        throw Error(stage.shown(e.source()), stage.shown(e.problem()));
+    }
+}
 
 std::string render_file(const MaterialJob& job, const char* kind) {
     const fs::path out(job.output);
@@ -218,23 +254,26 @@ std::string render_hash_of(const std::string& material_hash, const RenderCheck& 
 }
 
 // How a material is processed: in this process, or in a worker whose finished files the parent
-// moves into place (so that a worker killed at any point publishes nothing).
+// moves into place (so that a worker killed at any point publishes nothing). Files are staged
+// under names in the stage folder, reached through its descriptor.
 struct MaterialContext {
-    std::string stage;
+    const OwnedFolder* stage = nullptr;
+    BatchFolders* folders = nullptr;  // in the batch's own process: publishes at once
     bool force = false;
     int shard = 0;
     bool in_worker = false;
     std::uint64_t memory_limit = 0;  // the worker's, for messages
     std::map<std::string, render::EnvironmentMap> environments;
-    std::vector<std::pair<std::string, std::string>> moves;  // worker: (staged, final), in order
+    std::vector<std::pair<std::string, std::string>> moves;  // worker: (staged name, final), in order
 
+    std::string staged(const std::string& name) const { return stage->through(name); }
     // Where the finished file is to be read from afterwards.
-    std::string publish(const std::string& from, const std::string& to) {
+    std::string publish(const std::string& name, const std::string& to, bool render) {
         if (in_worker) {
-            moves.emplace_back(from, to);
-            return from;
+            moves.emplace_back(name, to);
+            return staged(name);
         }
-        move_into_place(from, to);
+        publish_finished(*folders, name, to, render);
         return to;
     }
 };
@@ -296,13 +335,82 @@ MaterialResult result_for(const MaterialJob& job, int shard) {
     return r;
 }
 
+// A validation render is the batch's own file: read only when it is a regular file at its name
+// (a link there is not taken for it; publishing refuses it).
+bool own_regular_file(const std::string& path) {
+    std::error_code ec;
+    return fs::symlink_status(path, ec).type() == fs::file_type::regular;
+}
+
+std::optional<std::map<std::string, std::string>> render_header_of(const MaterialJob& job) {
+    const std::string path = render_file(job, "npf");
+    if (!own_regular_file(path)) return std::nullopt;
+    return header_of(path, false);
+}
+
+// Whether the material's validation renders are those of `render_hash`.
+bool renders_up_to_date(const MaterialJob& job, const std::optional<std::map<std::string, std::string>>& header,
+                        const std::string& render_hash) {
+    return header && header->count("npf:batch_hash") && header->at("npf:batch_hash") == render_hash &&
+           own_regular_file(render_file(job, "reference"));
+}
+
+// Renders the source and its output (`output`, where it can be read now) as `check` says, paired
+// (docs/metrics.md sec. 5): environment sampling only at one seed, so both images are estimated
+// at the same light directions; the pair again at the next seed gives the PSNR's noise floor.
+// Publishes both renders, stamped with `render_hash`, and fills the result's metrics.
+void render_and_compare(const MaterialJob& job, const Brdf& source, const std::string& output, const RenderCheck& check,
+                        const std::string& render_hash, MaterialContext& ctx, MaterialResult& r) {
+    const std::string env_path = check.env.empty() ? render::default_environment_map_path() : check.env;
+    auto it = ctx.environments.find(env_path);
+    if (it == ctx.environments.end()) it = ctx.environments.emplace(env_path, render::EnvironmentMap::load(env_path)).first;
+    render::RenderOptions ro;
+    ro.width = ro.height = check.size;
+    ro.spp = check.spp;
+    ro.seed = check.seed;
+    ro.threads = check.threads;
+    ro.sampling = render::Sampling::Environment;
+    const std::unique_ptr<Brdf> fitted = open_material(output);
+    const render::RenderResult reference = render::render(source, it->second, ro);
+    const render::RenderResult test = render::render(*fitted, it->second, ro);
+    render::RenderOptions ro2 = ro;
+    ro2.seed = check.seed + 1;
+    const render::RenderResult reference2 = render::render(source, it->second, ro2);
+    const render::RenderResult test2 = render::render(*fitted, it->second, ro2);
+    const render::ImageMetrics metrics = render::compare_images(reference.image, test.image, {}, "reference", "npf");
+    const render::NoiseFloor floor =
+        render::paired_noise_floor(reference.image, test.image, reference2.image, test2.image, {}, "reference", "npf");
+    r.psnr = metrics.psnr, r.ssim = metrics.ssim, r.relmse = metrics.relmse;
+    r.psnr_floor = floor.psnr;
+    render::RenderMetadata ref_meta = render::describe_render(reference, ro, it->second);
+    ref_meta.insert(ref_meta.begin(), {"npf:material", job.input});
+    ref_meta.emplace_back("npf:batch_hash", render_hash);
+    render::RenderMetadata npf_meta = render::describe_render(test, ro, it->second);
+    npf_meta.insert(npf_meta.begin(), {"npf:material", job.output});
+    npf_meta.emplace_back("npf:batch_hash", render_hash);
+    npf_meta.emplace_back("npf:batch_psnr", fmt("%.9g", metrics.psnr));
+    npf_meta.emplace_back("npf:batch_psnr_floor", fmt("%.9g", floor.psnr));
+    npf_meta.emplace_back("npf:batch_ssim", fmt("%.9g", metrics.ssim));
+    npf_meta.emplace_back("npf:batch_relmse", fmt("%.9g", metrics.relmse));
+    const std::string ref_name = job.name + ".reference.exr", npf_name = job.name + ".npf.exr";
+    // Staged as the batch's own files: a link at the name is refused.
+    const auto stage = [&ctx](const std::string& name, const render::RenderResult& image, const render::RenderMetadata& meta) {
+        AtomicOutput staged(ctx.staged(name), OutputOptions{kOwner, ctx.stage->path_of(name)});
+        render::write_render_exr(staged, image, meta);
+        staged.commit();
+    };
+    stage(ref_name, reference, ref_meta);
+    stage(npf_name, test, npf_meta);
+    ctx.publish(ref_name, render_file(job, "reference"), true);
+    ctx.publish(npf_name, render_file(job, "npf"), true);  // last: its hash says both are done
+}
+
 // One material: checked against its output's hash, converted, edited, stamped, written, and
 // rendered when asked; every problem becomes its failed status and reason.
 MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
     std::error_code ec;
     MaterialResult r = result_for(job, ctx.shard);
-    const std::string fit_path = (fs::path(ctx.stage) / (job.name + ".fit.exr")).string();
-    const std::string final_stage = (fs::path(ctx.stage) / (job.name + ".exr")).string();
+    const std::string fit_name = job.name + ".fit.exr", final_name = job.name + ".exr";
     try {
         apply_test_fault(job.name, ctx);
         if (!fs::is_regular_file(job.input, ec)) {
@@ -323,18 +431,16 @@ MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
         std::optional<std::map<std::string, std::string>> render_header;
         if (check.enabled) {
             render_hash = render_hash_of(r.hash, check);
-            render_header = header_of(render_file(job, "npf"), false);
+            render_header = render_header_of(job);
         }
-        const bool render_up_to_date = !check.enabled || (up_to_date && render_header && render_header->count("npf:batch_hash") &&
-                                                          render_header->at("npf:batch_hash") == render_hash &&
-                                                          fs::is_regular_file(render_file(job, "reference"), ec));
+        const bool render_up_to_date = !check.enabled || (up_to_date && renders_up_to_date(job, render_header, render_hash));
 
         std::string output = job.output;  // where the output is read from below
         if (!up_to_date) {
             ConvertSettings s = resolve_convert_settings(job.settings, isotropic);
-            const ConvertReport rep = convert_material(*source, fit_path, s);
-            NpfModel model = read_npf_texture(fit_path);
-            fs::remove(fit_path, ec);
+            const ConvertReport rep = convert_material(*source, ctx.staged(fit_name), s);
+            NpfModel model = read_npf_texture(ctx.staged(fit_name));
+            fs::remove(ctx.staged(fit_name), ec);
             const auto e = job.settings.find("edit");
             if (e != job.settings.end() && !e->second.value.empty()) {
                 const edit::EditRecipe recipe = edit::load_edit_recipe(e->second.value);
@@ -344,8 +450,8 @@ MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
             model.metadata.emplace_back(npf_exr::kMetaBatchName, job.name);
             model.metadata.emplace_back(npf_exr::kMetaBatchSettings, canonical_settings(job.settings));
             model.metadata.emplace_back(npf_exr::kMetaBatchHash, r.hash);
-            write_npf_texture(model, final_stage);  // no time stamp: the bytes are the content's
-            output = ctx.publish(final_stage, job.output);
+            write_npf_texture(model, ctx.staged(final_name));  // no time stamp: the bytes are the content's
+            output = ctx.publish(final_name, job.output, false);
             if (rep.fit.invalid_values > 0) r.reason = std::to_string(rep.fit.invalid_values) + " invalid source values ignored";
             r.status = MaterialStatus::Converted;
         } else {
@@ -355,46 +461,7 @@ MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
         if (const auto h = header_of(output, true)) fill_from_header(r, *h);
 
         if (check.enabled && !render_up_to_date) {
-            const std::string env_path = check.env.empty() ? render::default_environment_map_path() : check.env;
-            auto it = ctx.environments.find(env_path);
-            if (it == ctx.environments.end()) it = ctx.environments.emplace(env_path, render::EnvironmentMap::load(env_path)).first;
-            // Paired (docs/metrics.md sec. 5): environment sampling only at one seed, so both
-            // images are estimated at the same light directions; the pair again at the next
-            // seed gives the PSNR's noise floor.
-            render::RenderOptions ro;
-            ro.width = ro.height = check.size;
-            ro.spp = check.spp;
-            ro.seed = check.seed;
-            ro.threads = check.threads;
-            ro.sampling = render::Sampling::Environment;
-            const std::unique_ptr<Brdf> fitted = open_material(output);
-            const render::RenderResult reference = render::render(*source, it->second, ro);
-            const render::RenderResult test = render::render(*fitted, it->second, ro);
-            render::RenderOptions ro2 = ro;
-            ro2.seed = check.seed + 1;
-            const render::RenderResult reference2 = render::render(*source, it->second, ro2);
-            const render::RenderResult test2 = render::render(*fitted, it->second, ro2);
-            const render::ImageMetrics metrics = render::compare_images(reference.image, test.image, {}, "reference", "npf");
-            const render::NoiseFloor floor =
-                render::paired_noise_floor(reference.image, test.image, reference2.image, test2.image, {}, "reference", "npf");
-            r.psnr = metrics.psnr, r.ssim = metrics.ssim, r.relmse = metrics.relmse;
-            r.psnr_floor = floor.psnr;
-            render::RenderMetadata ref_meta = render::describe_render(reference, ro, it->second);
-            ref_meta.insert(ref_meta.begin(), {"npf:material", job.input});
-            ref_meta.emplace_back("npf:batch_hash", render_hash);
-            render::RenderMetadata npf_meta = render::describe_render(test, ro, it->second);
-            npf_meta.insert(npf_meta.begin(), {"npf:material", job.output});
-            npf_meta.emplace_back("npf:batch_hash", render_hash);
-            npf_meta.emplace_back("npf:batch_psnr", fmt("%.9g", metrics.psnr));
-            npf_meta.emplace_back("npf:batch_psnr_floor", fmt("%.9g", floor.psnr));
-            npf_meta.emplace_back("npf:batch_ssim", fmt("%.9g", metrics.ssim));
-            npf_meta.emplace_back("npf:batch_relmse", fmt("%.9g", metrics.relmse));
-            const std::string ref_stage = (fs::path(ctx.stage) / (job.name + ".reference.exr")).string();
-            const std::string npf_stage = (fs::path(ctx.stage) / (job.name + ".npf.exr")).string();
-            render::write_render_exr(ref_stage, reference, ref_meta);
-            render::write_render_exr(npf_stage, test, npf_meta);
-            ctx.publish(ref_stage, render_file(job, "reference"));
-            ctx.publish(npf_stage, render_file(job, "npf"));  // last: its hash says both are done
+            render_and_compare(job, *source, output, check, render_hash, ctx, r);
             if (r.status == MaterialStatus::Skipped) r.reason = "validation render redone";
         } else if (check.enabled && render_header) {
             fill_from_render_header(r, *render_header);
@@ -404,10 +471,10 @@ MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
         r.reason = job.input + ": ran out of memory (" + memory_note(ctx.memory_limit) + ")";
     } catch (const Error& e) {
         r.status = MaterialStatus::Failed;
-        r.reason = e.what();
+        r.reason = ctx.stage->shown(e.what());
     } catch (const std::exception& e) {
         r.status = MaterialStatus::Failed;
-        r.reason = job.input + ": internal error: " + e.what();
+        r.reason = job.input + ": internal error: " + ctx.stage->shown(e.what());
     }
     return r;
 }
@@ -432,11 +499,8 @@ std::optional<MaterialResult> up_to_date_result(const MaterialJob& job, int shar
         r.hash = stored;
         const RenderCheck check = resolve_render_check(job.settings);
         if (check.enabled) {
-            const auto render_header = header_of(render_file(job, "npf"), false);
-            if (!render_header || !render_header->count("npf:batch_hash") ||
-                render_header->at("npf:batch_hash") != render_hash_of(stored, check) ||
-                !fs::is_regular_file(render_file(job, "reference"), ec))
-                return std::nullopt;
+            const auto render_header = render_header_of(job);
+            if (!renders_up_to_date(job, render_header, render_hash_of(stored, check))) return std::nullopt;
             fill_from_render_header(r, *render_header);
         }
         // As open_material's file_bytes: 0 for an analytic recipe (chosen by its name).
@@ -449,14 +513,14 @@ std::optional<MaterialResult> up_to_date_result(const MaterialJob& job, int shar
     }
 }
 
-// The job file a worker reads (YAML): the material, the stage folder and where its answers go.
-void write_job(const std::string& path, const MaterialJob& job, const MaterialContext& ctx, const std::string& result,
-               const std::string& moves) {
+// The job file a worker reads (YAML): the material, the stage folder (with its device and inode,
+// so that the worker uses the very folder the batch made) and the names its answers get there.
+std::string job_text(const MaterialJob& job, const MaterialContext& ctx, const std::string& result, const std::string& moves) {
     YAML::Emitter out;
     // Quoted, so that no text reads back as null, a number or a boolean.
     const auto q = [&out](const std::string& text) { out << YAML::DoubleQuoted << text; };
     out << YAML::BeginMap;
-    out << YAML::Key << "npf_batch_worker_job" << YAML::Value << 1;
+    out << YAML::Key << "npf_batch_worker_job" << YAML::Value << 2;
     out << YAML::Key << "parent" << YAML::Value << long(::getpid());
     out << YAML::Key << "name" << YAML::Value;
     q(job.name);
@@ -467,7 +531,9 @@ void write_job(const std::string& path, const MaterialJob& job, const MaterialCo
     out << YAML::Key << "origin" << YAML::Value;
     q(job.origin);
     out << YAML::Key << "stage" << YAML::Value;
-    q(ctx.stage);
+    q(ctx.stage->path());
+    out << YAML::Key << "stage_device" << YAML::Value << std::to_string(ctx.stage->device());
+    out << YAML::Key << "stage_inode" << YAML::Value << std::to_string(ctx.stage->inode());
     out << YAML::Key << "force" << YAML::Value << ctx.force;
     out << YAML::Key << "shard" << YAML::Value << ctx.shard;
     out << YAML::Key << "memory_limit" << YAML::Value << std::to_string(ctx.memory_limit);
@@ -483,22 +549,62 @@ void write_job(const std::string& path, const MaterialJob& job, const MaterialCo
         out << YAML::EndSeq;
     }
     out << YAML::EndMap << YAML::EndMap;
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f << out.c_str() << "\n";
-    f.close();
-    if (!f) throw Error(path, "cannot write the worker's job file");
+    return std::string(out.c_str()) + "\n";
 }
 
-void write_text_file(const std::string& path, const std::string& text) {
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.close();
-    if (!f) throw Error(path, "cannot write");
+// Why a worker that did not answer ended, as a material's failure: "PATH: killed by signal 11
+// (segmentation fault) (its last words: ...)".
+std::string worker_failure(const MaterialJob& job, const detail::WorkerEnd& end, const MaterialLimits& limits,
+                           const std::string& executable, const std::string& tail) {
+    const std::string said = tail.empty() ? "" : " (its last words: " + tail + ")";
+    if (!end.start_error.empty()) return "cannot start the worker process " + executable + ": " + end.start_error;
+    if (end.timed_out) return job.input + ": took longer than " + describe_seconds(limits.seconds) + " (time_limit), stopped";
+    if (end.signal > 0) {
+        if (tail.find("bad_alloc") != std::string::npos)
+            return job.input + ": ran out of memory (" + memory_note(limits.memory_bytes) + "), " + detail::signal_text(end.signal);
+        std::string reason = job.input + ": killed by " + detail::signal_text(end.signal);
+        if (end.signal == SIGKILL)
+            reason += " from outside, at " + describe_memory(std::uint64_t(end.peak_resident_bytes)) +
+                      " resident (the system's out-of-memory killer?)";
+        return reason + said;
+    }
+    if (end.exited && end.exit_code != 0)
+        return job.input + ": the worker process exited with status " + std::to_string(end.exit_code) + said;
+    return "";
+}
+
+// The worker's answer and the files it finished, read from the stage (never through a link) and
+// published; a list naming anything but this material's output and renders is refused.
+MaterialResult take_answer(const MaterialJob& job, BatchFolders& folders, const std::string& result, const std::string& moves) {
+    const OwnedFolder& stage = folders.stage();
+    const BatchSummary answer =
+        parse_summary_json(stage.read_text(result, "a batch worker's answer", kConfigTextBounds), stage.path_of(result));
+    const YAML::Node list = YAML::Load(stage.read_text(moves, "a batch worker's list of finished files", kConfigTextBounds));
+    std::vector<std::tuple<std::string, std::string, bool>> to_move;  // staged name, final, a render
+    for (const YAML::Node& m : list) {
+        const std::string name = m[0].as<std::string>(), to = m[1].as<std::string>();
+        const bool render = to == render_file(job, "reference") || to == render_file(job, "npf");
+        if ((to != job.output && !render) || name.empty() || name.find('/') != std::string::npos)
+            throw Error(stage.path_of(moves), "lists a file that is not one of this material's: " + name + " -> " + to);
+        to_move.emplace_back(name, to, render);
+    }
+    if (answer.materials.size() != 1 || answer.materials[0].name != job.name)
+        throw Error(stage.path_of(result), "the worker process answered for another material");
+    MaterialResult r = answer.materials[0];
+    try {
+        for (const auto& [name, to, render] : to_move) publish_finished(folders, name, to, render);
+    } catch (const Error& e) {
+        r.status = MaterialStatus::Failed;
+        r.reason = e.what();
+    }
+    return r;
 }
 
 // Runs one material in a worker process under its limits and turns however it ended into a
 // result: the worker's own, or a failure naming the input and why (signal, limit, exit status).
-MaterialResult run_in_worker(const MaterialJob& job, const std::string& executable, const std::string& stage, bool force, int shard) {
+// Nothing when options.stop ended it: the material was cut short, not done.
+std::optional<MaterialResult> run_in_worker(const MaterialJob& job, BatchFolders& folders, const BatchOptions& options) {
+    const int shard = options.shard.index;
     MaterialResult failed = result_for(job, shard);
     failed.status = MaterialStatus::Failed;
     MaterialLimits limits;
@@ -508,73 +614,41 @@ MaterialResult run_in_worker(const MaterialJob& job, const std::string& executab
         failed.reason = e.what();
         return failed;
     }
-    if (!force) {
+    if (!options.force) {
         if (std::optional<MaterialResult> skipped = up_to_date_result(job, shard)) return *skipped;
     }
+    const OwnedFolder& stage = folders.stage();
     MaterialContext ctx;
-    ctx.stage = stage;
-    ctx.force = force;
+    ctx.stage = &stage;
+    ctx.force = options.force;
     ctx.shard = shard;
     ctx.memory_limit = limits.memory_bytes;
-    const fs::path base = fs::path(stage) / job.name;
-    const std::string job_file = base.string() + ".job.yaml", result = base.string() + ".result.json",
-                      moves = base.string() + ".moves.yaml", log = base.string() + ".worker.log";
+    const std::string job_file = job.name + ".job.yaml", result = job.name + ".result.json", moves = job.name + ".moves.yaml";
+    int log = -1;
     try {
-        write_job(job_file, job, ctx, result, moves);
+        stage.write_new_file(job_file, job_text(job, ctx, result, moves));
+        log = stage.create_file(job.name + ".worker.log", 0644);
     } catch (const Error& e) {
         failed.reason = e.what();
         return failed;
     }
-    const detail::WorkerEnd end = detail::run_worker_process(executable, {"batch", "--worker", job_file}, log, limits.seconds);
+    // The worker is told the job's path as people read it; it checks that the folder it finds
+    // there is this one (device and inode in the job).
+    const detail::WorkerEnd end = detail::run_worker_process(options.worker_executable, {"batch", "--worker", stage.path_of(job_file)},
+                                                             log, limits.seconds, options.stop);
     const std::string tail = detail::last_line(log);
-    const std::string said = tail.empty() ? "" : " (its last words: " + tail + ")";
-    if (!end.start_error.empty()) {
-        failed.reason = "cannot start the worker process " + executable + ": " + end.start_error;
-        return failed;
-    }
-    if (end.timed_out) {
-        failed.reason = job.input + ": took longer than " + describe_seconds(limits.seconds) + " (time_limit), stopped";
-        return failed;
-    }
-    if (end.signal > 0) {
-        if (tail.find("bad_alloc") != std::string::npos) {
-            failed.reason = job.input + ": ran out of memory (" + memory_note(limits.memory_bytes) + "), " + detail::signal_text(end.signal);
-        } else {
-            failed.reason = job.input + ": killed by " + detail::signal_text(end.signal);
-            if (end.signal == SIGKILL)
-                failed.reason += " from outside, at " + describe_memory(std::uint64_t(end.peak_resident_bytes)) +
-                                 " resident (the system's out-of-memory killer?)";
-            failed.reason += said;
-        }
-        return failed;
-    }
-    if (end.exited && end.exit_code != 0) {
-        failed.reason = job.input + ": the worker process exited with status " + std::to_string(end.exit_code) + said;
-        return failed;
-    }
+    ::close(log);
+    if (end.stopped || (options.stop && *options.stop)) return std::nullopt;
+    failed.reason = worker_failure(job, end, limits, options.worker_executable, tail);
+    if (!failed.reason.empty()) return failed;
     // Ended normally (or its status was lost): its answer, and the files it finished.
-    BatchSummary answer;
-    std::vector<std::pair<std::string, std::string>> to_move;
     try {
-        answer = read_summary_json(result);
-        const YAML::Node list = YAML::LoadFile(moves);
-        for (const YAML::Node& m : list) to_move.emplace_back(m[0].as<std::string>(), m[1].as<std::string>());
+        return take_answer(job, folders, result, moves);
     } catch (const std::exception& e) {
+        const std::string said = tail.empty() ? "" : " (its last words: " + tail + ")";
         failed.reason = job.input + ": the worker process ended without an answer (" + std::string(e.what()) + ")" + said;
         return failed;
     }
-    if (answer.materials.size() != 1 || answer.materials[0].name != job.name) {
-        failed.reason = job.input + ": the worker process answered for another material";
-        return failed;
-    }
-    MaterialResult r = answer.materials[0];
-    try {
-        for (const auto& [from, to] : to_move) move_into_place(from, to);
-    } catch (const Error& e) {
-        r.status = MaterialStatus::Failed;
-        r.reason = e.what();
-    }
-    return r;
 }
 
 }  // namespace
@@ -624,11 +698,53 @@ std::string material_hash(const MaterialJob& job, bool source_isotropic) {
     return hash_text(job, source_isotropic, sha256_file(job.input));
 }
 
+void check_batch_files(const BatchConfig& config, const std::string& summary_base) {
+    // Inputs first: check_distinct_files names the later of two uses, an output.
+    std::vector<FileUse> uses;
+    if (!config.path.empty()) uses.push_back({config.path, "the configuration", false});
+    for (const MaterialJob& m : config.materials) uses.push_back({m.input, "the input of '" + m.name + "'", false});
+    for (const MaterialJob& m : config.materials) {
+        uses.push_back({m.output, "the output of '" + m.name + "'", true});
+        if (!resolve_render_check(m.settings).enabled) continue;
+        for (const char* kind : {"reference", "npf"}) uses.push_back({render_file(m, kind), "a validation render of '" + m.name + "'", true});
+    }
+    if (!summary_base.empty()) {
+        uses.push_back({summary_base + ".json", "the summary", true});
+        uses.push_back({summary_base + ".md", "the summary", true});
+    }
+    check_distinct_files(uses);
+}
+
+namespace {
+
+// "[2/7] felt: converted in 1.2 s, 0.007 MB (1/161.9), error 3.1 %, PSNR ...", one line whatever
+// the names hold.
+std::string progress_line(const std::string& counter, const MaterialResult& r) {
+    std::string line = counter + ": " + status_name(r.status);
+    if (r.status == MaterialStatus::Failed) {
+        line += ": " + r.reason;
+    } else {
+        line += " in " + fmt("%.2f s", r.seconds);
+        if (r.output_bytes) line += ", " + fmt("%.3f MB", double(r.output_bytes) / 1e6);
+        if (r.ratio()) line += " (1/" + fmt("%.1f", *r.ratio()) + ")";
+        if (r.error_mean) line += ", error " + fmt("%.2f %%", 100.0 * *r.error_mean);
+        if (r.psnr) {
+            line += ", PSNR " + fmt("%.2f dB", *r.psnr);
+            if (r.psnr_floor) line += " (noise floor " + fmt("%.2f dB", *r.psnr_floor) + ")";
+        }
+        if (!r.reason.empty()) line += " (" + r.reason + ")";
+    }
+    return printable(line);
+}
+
+}  // namespace
+
 BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
     const auto start = Clock::now();
     const auto log = [&](const std::string& line) {
         if (options.log) options.log(line);
     };
+    const auto stopped = [&options] { return options.stop && *options.stop != 0; };
     BatchSummary summary;
     summary.config = config.path;
     summary.shard_index = options.shard.index;
@@ -637,83 +753,108 @@ BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options) {
     summary.config_materials = config.materials.size();
     summary.warnings = config.warnings;
 
-    std::error_code ec;
-    fs::create_directories(config.output_dir, ec);
-    if (ec) throw Error(config.output_dir, "cannot create the output folder: " + ec.message());
-    const std::string work = (fs::path(config.output_dir) / ".npf-batch").string();
-    const std::string stage = (fs::path(work) / shard_tag(options.shard)).string();
-    fs::create_directories(stage, ec);
-    if (ec) throw Error(stage, "cannot create the work folder: " + ec.message());
-    const FileLock lock(stage + ".lock");
-    clear_folder(stage);  // what a killed run left
+    check_batch_files(config, "");
+    BatchFolders folders(config.output_dir, options.shard);
+    const std::vector<std::size_t> members = shard_members(config.materials.size(), options.shard);
+    for (std::size_t index : members) {
+        if (resolve_render_check(config.materials[index].settings).enabled) {
+            folders.check_renders();
+            break;
+        }
+    }
 
     MaterialContext here;  // in-process: no worker executable
-    here.stage = stage;
+    here.stage = &folders.stage();
+    here.folders = &folders;
     here.force = options.force;
     here.shard = options.shard.index;
-    const std::vector<std::size_t> members = shard_members(config.materials.size(), options.shard);
     std::size_t done = 0;
     for (std::size_t index : members) {
+        if (stopped()) break;
         MaterialJob job = config.materials[index];
         if (options.threads > 0) job.settings["threads"] = {std::to_string(options.threads), "--threads"};
         if (!options.memory_limit.empty()) job.settings["memory_limit"] = {options.memory_limit, "--memory-limit"};
         if (!options.time_limit.empty()) job.settings["time_limit"] = {options.time_limit, "--time-limit"};
         const auto t0 = Clock::now();
         const std::string counter = "[" + std::to_string(++done) + "/" + std::to_string(members.size()) + "] " + job.name;
-        MaterialResult r = options.worker_executable.empty()
-                               ? process_material(job, here)
-                               : run_in_worker(job, options.worker_executable, stage, options.force, options.shard.index);
-        clear_folder(stage);
-        r.seconds = seconds_since(t0);
-        std::string line = counter + ": " + status_name(r.status);
-        if (r.status == MaterialStatus::Failed) {
-            line += ": " + r.reason;
-        } else {
-            line += " in " + fmt("%.2f s", r.seconds);
-            if (r.output_bytes) line += ", " + fmt("%.3f MB", double(r.output_bytes) / 1e6);
-            if (r.ratio()) line += " (1/" + fmt("%.1f", *r.ratio()) + ")";
-            if (r.error_mean) line += ", error " + fmt("%.2f %%", 100.0 * *r.error_mean);
-            if (r.psnr) {
-                line += ", PSNR " + fmt("%.2f dB", *r.psnr);
-                if (r.psnr_floor) line += " (noise floor " + fmt("%.2f dB", *r.psnr_floor) + ")";
-            }
-            if (!r.reason.empty()) line += " (" + r.reason + ")";
-        }
-        log(line);
-        summary.materials.push_back(std::move(r));
+        std::optional<MaterialResult> r =
+            options.worker_executable.empty() ? process_material(job, here) : run_in_worker(job, folders, options);
+        folders.stage().clear();
+        if (!r) break;  // stopped while its worker ran
+        r->seconds = seconds_since(t0);
+        log(progress_line(counter, *r));
+        summary.materials.push_back(std::move(*r));
     }
+    if (stopped()) summary.stopped_by = int(*options.stop);
     summary.seconds = seconds_since(start);
     return summary;
 }
+
+namespace {
+
+// The job a worker was given, read without following a link, and the stage folder it names,
+// which must be the one the batch made, holding this very job file.
+struct WorkerJob {
+    YAML::Node node;
+    OwnedFolder stage;
+};
+
+WorkerJob read_worker_job(const std::string& job_path) {
+    const int fd = ::open(job_path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) throw Error(job_path, std::string("cannot open the job: ") + std::strerror(errno));
+    std::string text;
+    struct stat job {};
+    try {
+        text = read_text_file(fd, job_path, "an npf batch job", kConfigTextBounds);
+        if (::fstat(fd, &job) != 0) throw Error(job_path, std::string("cannot examine the job: ") + std::strerror(errno));
+    } catch (...) {
+        ::close(fd);
+        throw;
+    }
+    ::close(fd);
+    const YAML::Node j = YAML::Load(text);
+    if (!j.IsMap() || !j["npf_batch_worker_job"] || j["npf_batch_worker_job"].as<int>() != 2) throw Error(job_path, "not an npf batch job");
+    OwnedFolder stage = OwnedFolder::reopen(j["stage"].as<std::string>(), std::stoull(j["stage_device"].as<std::string>()),
+                                            std::stoull(j["stage_inode"].as<std::string>()), kOwner);
+    struct stat there {};
+    if (::fstatat(stage.descriptor(), file_name(job_path).c_str(), &there, AT_SYMLINK_NOFOLLOW) != 0 || there.st_dev != job.st_dev ||
+        there.st_ino != job.st_ino)
+        throw Error(job_path, "is not a job in the work folder the batch made: not used");
+    return WorkerJob{j, std::move(stage)};
+}
+
+// RLIMIT_DATA (heap and private writable mappings: what a material's tables take), not
+// RLIMIT_AS, which also counts the libraries' code and every thread's 64 MiB malloc arena
+// reservation, so that its value would depend on the thread count. Set before any material is
+// read; an allocation past it fails (std::bad_alloc in C++ code).
+void limit_memory(std::uint64_t bytes, const std::string& job_path) {
+    struct rlimit limit {};
+    ::getrlimit(RLIMIT_DATA, &limit);
+    const rlim_t want = rlim_t(bytes);
+    limit.rlim_cur = limit.rlim_max == RLIM_INFINITY ? want : std::min(want, limit.rlim_max);
+    if (::setrlimit(RLIMIT_DATA, &limit) != 0) throw Error(job_path, std::string("cannot set the memory limit: ") + std::strerror(errno));
+}
+
+}  // namespace
 
 int run_batch_worker(const std::string& job_path) {
     // Dies with the batch (kill -9 included) rather than finishing on its own; the parent's pid
     // in the job catches a parent that died before this line.
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
     try {
-        const YAML::Node j = YAML::LoadFile(job_path);
-        if (!j["npf_batch_worker_job"] || j["npf_batch_worker_job"].as<int>() != 1) throw Error(job_path, "not an npf batch job");
+        const WorkerJob w = read_worker_job(job_path);
+        const YAML::Node& j = w.node;
         if (long(::getppid()) != j["parent"].as<long>()) {
             std::fprintf(stderr, "npf batch --worker: the batch that started this worker has ended\n");
             return 3;
         }
         MaterialContext ctx;
         ctx.in_worker = true;
-        ctx.stage = j["stage"].as<std::string>();
+        ctx.stage = &w.stage;
         ctx.force = j["force"].as<bool>();
         ctx.shard = j["shard"].as<int>();
         ctx.memory_limit = std::stoull(j["memory_limit"].as<std::string>());
-        if (ctx.memory_limit > 0) {
-            // RLIMIT_DATA (heap and private writable mappings: what a material's tables take), not
-            // RLIMIT_AS, which also counts the libraries' code and every thread's 64 MiB malloc
-            // arena reservation, so that its value would depend on the thread count. Set before
-            // anything is read; an allocation past it fails (std::bad_alloc in C++ code).
-            struct rlimit limit {};
-            ::getrlimit(RLIMIT_DATA, &limit);
-            const rlim_t want = rlim_t(ctx.memory_limit);
-            limit.rlim_cur = limit.rlim_max == RLIM_INFINITY ? want : std::min(want, limit.rlim_max);
-            if (::setrlimit(RLIMIT_DATA, &limit) != 0) throw Error(job_path, std::string("cannot set the memory limit: ") + std::strerror(errno));
-        }
+        if (ctx.memory_limit > 0) limit_memory(ctx.memory_limit, job_path);
         MaterialJob job;
         job.name = j["name"].as<std::string>();
         job.input = j["input"].as<std::string>();
@@ -726,14 +867,14 @@ int run_batch_worker(const std::string& job_path) {
         // The list of finished files first: the answer's presence says both are complete.
         YAML::Emitter moves;
         moves << YAML::BeginSeq;
-        for (const auto& [from, to] : ctx.moves)
-            moves << YAML::Flow << YAML::BeginSeq << YAML::DoubleQuoted << from << YAML::DoubleQuoted << to << YAML::EndSeq;
+        for (const auto& [name, to] : ctx.moves)
+            moves << YAML::Flow << YAML::BeginSeq << YAML::DoubleQuoted << name << YAML::DoubleQuoted << to << YAML::EndSeq;
         moves << YAML::EndSeq;
-        write_text_file(j["moves"].as<std::string>(), std::string(moves.c_str()) + "\n");
-        write_text_file(j["result"].as<std::string>(), summary_json(answer));
+        w.stage.write_new_file(j["moves"].as<std::string>(), std::string(moves.c_str()) + "\n");
+        w.stage.write_new_file(j["result"].as<std::string>(), summary_json(answer));
         return 0;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "npf batch --worker: %s\n", e.what());
+        std::fprintf(stderr, "npf batch --worker: %s\n", printable(e.what()).c_str());
         return 3;
     }
 }

@@ -4,6 +4,7 @@
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 #include <npf/core/json_text.h>
+#include <npf/core/text.h>
 
 #include <yaml-cpp/yaml.h>
 
@@ -27,12 +28,11 @@ std::string fixed(double v, int digits) {
 
 std::string megabytes(std::uint64_t bytes) { return fixed(double(bytes) / 1e6, 3); }
 
-// A Markdown table cell: no pipes or newlines.
-std::string cell(std::string s) {
-    for (char& c : s) {
-        if (c == '|') c = '/';
-        if (c == '\n' || c == '\r') c = ' ';
-    }
+// Markdown text on one line: control characters escaped (a newline in a file name would end
+// a table row), and no pipes (they would end a cell).
+std::string cell(const std::string& text) {
+    std::string s = printable(text);
+    std::replace(s.begin(), s.end(), '|', '/');
     return s;
 }
 
@@ -78,9 +78,10 @@ std::string summary_json(const BatchSummary& s) {
          ", \"skipped\": " + std::to_string(s.count(MaterialStatus::Skipped)) +
          ", \"failed\": " + std::to_string(s.count(MaterialStatus::Failed)) + "},\n";
     j += "  \"ok\": " + std::string(s.ok() ? "true" : "false") + ",\n";
+    // A line each: a reader's line cap (kSummaryTextBounds) bounds one warning, not all of them.
     j += "  \"warnings\": [";
-    for (std::size_t i = 0; i < s.warnings.size(); ++i) j += (i ? ", " : "") + json_string(s.warnings[i]);
-    j += "],\n";
+    for (std::size_t i = 0; i < s.warnings.size(); ++i) j += (i ? ",\n    " : "\n    ") + json_string(s.warnings[i]);
+    j += s.warnings.empty() ? "],\n" : "\n  ],\n";
     j += "  \"materials\": [";
     for (std::size_t i = 0; i < s.materials.size(); ++i) {
         const MaterialResult& m = s.materials[i];
@@ -107,7 +108,7 @@ std::string summary_json(const BatchSummary& s) {
 
 std::string summary_markdown(const BatchSummary& s) {
     std::string md = "# npf batch summary\n\n";
-    md += "- configuration: `" + s.config + "`\n";
+    md += "- configuration: `" + cell(s.config) + "`\n";
     if (s.shards.size() == 1) {
         md += "- shard: " + std::to_string(s.shard_index) + " of " + std::to_string(s.shard_count) + "\n";
     } else {
@@ -139,18 +140,20 @@ std::string summary_markdown(const BatchSummary& s) {
     return md;
 }
 
-void write_summary(const BatchSummary& s, const std::string& base) {
+void write_summary(const BatchSummary& s, const std::string& base, const std::string& owned_by) {
     const std::string json = summary_json(s), md = summary_markdown(s);
-    write_file_atomically(base + ".json", json.data(), json.size());
-    write_file_atomically(base + ".md", md.data(), md.size());
+    write_file_atomically(base + ".json", json.data(), json.size(), OutputOptions{owned_by, ""});
+    write_file_atomically(base + ".md", md.data(), md.size(), OutputOptions{owned_by, ""});
 }
 
 BatchSummary read_summary_json(const std::string& path) {
+    return parse_summary_json(read_text_file(path, "an npf batch summary", kSummaryTextBounds), path);
+}
+
+BatchSummary parse_summary_json(const std::string& text, const std::string& path) {
     YAML::Node root;
     try {
-        root = YAML::LoadFile(path);
-    } catch (const YAML::BadFile&) {
-        throw Error(path, "cannot read the summary");
+        root = YAML::Load(text);
     } catch (const YAML::Exception& e) {
         throw Error(e.mark.line >= 0 ? path + ":" + std::to_string(e.mark.line + 1) : path, "not a batch summary: " + e.msg);
     }

@@ -6,12 +6,12 @@
 #include <chrono>
 #include <csignal>
 #include <cstring>
-#include <fstream>
 
 #include <fcntl.h>
 #include <poll.h>
 #include <spawn.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -35,8 +35,8 @@ int open_pidfd(pid_t pid) {
 
 }  // namespace
 
-WorkerEnd run_worker_process(const std::string& executable, const std::vector<std::string>& args, const std::string& log_path,
-                             double time_limit_s) {
+WorkerEnd run_worker_process(const std::string& executable, const std::vector<std::string>& args, int log_fd,
+                             double time_limit_s, const volatile std::sig_atomic_t* stop) {
     WorkerEnd end;
     std::vector<std::string> argv_text;
     argv_text.push_back(executable);
@@ -49,7 +49,7 @@ WorkerEnd run_worker_process(const std::string& executable, const std::vector<st
     posix_spawnattr_t attr;
     ::posix_spawn_file_actions_init(&actions);
     ::posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    ::posix_spawn_file_actions_addopen(&actions, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::posix_spawn_file_actions_adddup2(&actions, log_fd, 1);
     ::posix_spawn_file_actions_adddup2(&actions, 1, 2);
     ::posix_spawnattr_init(&attr);
     sigset_t none;
@@ -77,7 +77,15 @@ WorkerEnd run_worker_process(const std::string& executable, const std::vector<st
             end.status_lost = true;  // ECHILD: reaped elsewhere (SIGCHLD ignored)
             break;
         }
-        int wait_ms = 1000;
+        if (stop && *stop) {
+            ::kill(pid, SIGKILL);
+            while (::wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
+            }
+            end.stopped = true;
+            break;
+        }
+        // Short enough that a stop request (whose signal may land just before poll) is seen soon.
+        int wait_ms = stop ? 200 : 1000;
         if (time_limit_s > 0) {
             const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
             if (left <= 0) {
@@ -87,7 +95,7 @@ WorkerEnd run_worker_process(const std::string& executable, const std::vector<st
                 end.timed_out = true;
                 break;
             }
-            wait_ms = int(std::min(1000.0, left * 1000.0 + 1.0));
+            wait_ms = int(std::min(double(wait_ms), left * 1000.0 + 1.0));
         }
         if (pidfd >= 0) {
             struct pollfd p {pidfd, POLLIN, 0};
@@ -98,7 +106,7 @@ WorkerEnd run_worker_process(const std::string& executable, const std::vector<st
     }
     if (pidfd >= 0) ::close(pidfd);
     end.peak_resident_bytes = double(usage.ru_maxrss) * 1024.0;
-    if (end.status_lost || end.timed_out) return end;
+    if (end.status_lost || end.timed_out || end.stopped) return end;
     if (WIFEXITED(status)) {
         end.exited = true;
         end.exit_code = WEXITSTATUS(status);
@@ -115,15 +123,16 @@ std::string signal_text(int signal) {
     return "signal " + std::to_string(signal) + " (" + text + ")";
 }
 
-std::string last_line(const std::string& path, std::size_t limit) {
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) return "";
-    const std::streamoff size = in.tellg();
-    const std::streamoff from = std::max<std::streamoff>(0, size - 8192);
-    in.seekg(from);
-    std::string text(std::size_t(size - from), '\0');
-    in.read(text.data(), std::streamsize(text.size()));
-    text.resize(std::size_t(in.gcount()));
+std::string last_line(int fd, std::size_t limit) {
+    struct stat st {};
+    if (fd < 0 || ::fstat(fd, &st) != 0) return "";
+    const off_t from = std::max<off_t>(0, st.st_size - 8192);
+    std::string text(std::size_t(st.st_size - from), '\0');
+    ssize_t got;
+    do {
+        got = ::pread(fd, text.data(), text.size(), from);
+    } while (got < 0 && errno == EINTR);
+    text.resize(got > 0 ? std::size_t(got) : 0);
     std::string line;
     std::size_t end = text.size();
     while (end > 0) {

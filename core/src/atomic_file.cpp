@@ -74,10 +74,17 @@ std::string temporary_folder_prefix() {
     return dir;
 }
 
-// Writes all of `size` bytes to `fd` (a device or FIFO); returns 0 or the errno.
+// Where the link `path` points, as written in it ("?" when it cannot be read).
+std::string link_target(const std::string& path) {
+    std::vector<char> to(4096);
+    const ssize_t n = ::readlink(path.c_str(), to.data(), to.size() - 1);
+    return n > 0 ? std::string(to.data(), std::size_t(n)) : "?";
+}
+
 // A temporary's name before its random part: the output's own name capped below NAME_MAX.
 std::string temporary_stem(const std::string& name) { return name.substr(0, 200) + kTemporarySuffix; }
 
+// Writes all of `size` bytes to `fd` (a device or FIFO); returns 0 or the errno.
 int write_all(int fd, const char* data, std::size_t size) {
     while (size > 0) {
         const ssize_t n = ::write(fd, data, size);
@@ -92,39 +99,43 @@ int write_all(int fd, const char* data, std::size_t size) {
 
 }  // namespace
 
-void write_file_atomically(const std::string& path, const void* data, std::size_t size) {
-    AtomicOutput out(path);
+void write_file_atomically(const std::string& path, const void* data, std::size_t size, const OutputOptions& options) {
+    AtomicOutput out(path, options);
     if (out.write_at(0, data, size) != size) out.fail("cannot write", "short write");
     out.commit();
 }
 
-void check_output_path(const std::string& path) {
+void check_output_path(const std::string& path, const OutputOptions& options) {
     // Examining the destination and creating (then removing) the temporary is the check.
-    AtomicOutput probe(path);
+    AtomicOutput probe(path, options);
 }
 
-AtomicOutput::AtomicOutput(std::string path) : m_final(std::move(path)) {
+AtomicOutput::AtomicOutput(std::string path, const OutputOptions& options)
+    : m_final(std::move(path)), m_shown(options.shown_as.empty() ? m_final : options.shown_as) {
     if (m_final.empty()) throw Error("", "the output file name is empty");
-    if (m_final.back() == '/') throw Error(m_final, "ends in '/': names a folder, not a file");
+    if (m_final.back() == '/') throw Error(m_shown, "ends in '/': names a folder, not a file");
     check_file_name(m_final);
 
     // What is there decides how it is published.
     struct stat st {};
     bool link = false;
     if (::lstat(m_final.c_str(), &st) != 0) {
-        if (errno != ENOENT) throw Error(m_final, "cannot create output: " + system_message(errno));
+        if (errno != ENOENT) throw Error(m_shown, "cannot create output: " + system_message(errno));
         st.st_mode = S_IFREG;  // nothing there yet: created like a regular file
+    } else if (!options.owned_by.empty() && !S_ISREG(st.st_mode)) {
+        // A tool's own file: nothing the user put there is followed or written through.
+        if (!S_ISLNK(st.st_mode))
+            throw Error(m_shown, "is not a regular file where " + options.owned_by + " keeps a file of its own: not used; remove it");
+        throw Error(m_shown, "is a symbolic link (to " + link_target(m_final) + "): a file " + options.owned_by +
+                                 " owns is never followed; remove it");
     } else if (S_ISLNK(st.st_mode)) {
         // A link is followed, as cp and the shell's '>' do: the link stays, its target is the
         // output. A dangling one is refused (cp does too): its target may be anywhere.
         link = true;
         if (::stat(m_final.c_str(), &st) != 0) {
             const int e = errno;
-            if (e != ENOENT) throw Error(m_final, "cannot follow the symbolic link: " + system_message(e));
-            std::vector<char> to(4096);
-            const ssize_t n = ::readlink(m_final.c_str(), to.data(), to.size() - 1);
-            const std::string target = n > 0 ? std::string(to.data(), std::size_t(n)) : "?";
-            throw Error(m_final, "is a symbolic link to " + target +
+            if (e != ENOENT) throw Error(m_shown, "cannot follow the symbolic link: " + system_message(e));
+            throw Error(m_shown, "is a symbolic link to " + link_target(m_final) +
                                      ", which does not exist: not followed (remove the link or create its target)");
         }
     }
@@ -133,7 +144,7 @@ AtomicOutput::AtomicOutput(std::string path) : m_final(std::move(path)) {
         m_target = m_final;
         if (link) {
             char* resolved = ::realpath(m_final.c_str(), nullptr);
-            if (!resolved) throw Error(m_final, "cannot follow the symbolic link: " + system_message(errno));
+            if (!resolved) throw Error(m_shown, "cannot follow the symbolic link: " + system_message(errno));
             m_target = resolved;
             std::free(resolved);
         }
@@ -141,14 +152,14 @@ AtomicOutput::AtomicOutput(std::string path) : m_final(std::move(path)) {
     } else if (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)) {
         // /dev/null, /dev/stdout on a terminal, a named pipe: never replaced, the finished bytes
         // are written through. The temporary goes to the system's temporary folder.
-        if (::access(m_final.c_str(), W_OK) != 0) throw Error(m_final, "cannot write: " + system_message(errno));
+        if (::access(m_final.c_str(), W_OK) != 0) throw Error(m_shown, "cannot write: " + system_message(errno));
         m_write_through = true;
         prefix = temporary_folder_prefix();
     } else {
         const std::string is = link ? "is a symbolic link to " : "is ";
-        if (S_ISDIR(st.st_mode)) throw Error(m_final, is + "a directory, not a file: cannot move an output over it");
+        if (S_ISDIR(st.st_mode)) throw Error(m_shown, is + "a directory, not a file: cannot move an output over it");
         const char* kind = S_ISBLK(st.st_mode) ? "a block device" : S_ISSOCK(st.st_mode) ? "a socket" : "a special file";
-        throw Error(m_final, is + kind + ": not written (npf writes regular files, and writes through to character "
+        throw Error(m_shown, is + kind + ": not written (npf writes regular files, and writes through to character "
                                           "devices such as /dev/null and to FIFOs)");
     }
 
@@ -161,15 +172,15 @@ AtomicOutput::AtomicOutput(std::string path) : m_final(std::move(path)) {
     const std::string stem = prefix + temporary_stem(name);
     const mode_t mode = m_write_through ? 0600 : 0666;  // a copy in /tmp is nobody else's business
     for (int attempt = 0; attempt < 16 && m_fd < 0; ++attempt) {
-        std::string candidate = stem + random_hex(m_final);
+        std::string candidate = stem + random_hex(m_shown);
         m_fd = ::open(candidate.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, mode);
         if (m_fd >= 0) {
             m_temporary = std::move(candidate);
         } else if (errno != EEXIST) {
-            throw Error(m_final, "cannot create output in " + folder_for_messages(prefix) + ": " + system_message(errno));
+            throw Error(m_shown, "cannot create output in " + folder_for_messages(prefix) + ": " + system_message(errno));
         }
     }
-    if (m_fd < 0) throw Error(m_final, "cannot create output in " + folder_for_messages(prefix) + ": no free temporary name");
+    if (m_fd < 0) throw Error(m_shown, "cannot create output in " + folder_for_messages(prefix) + ": no free temporary name");
 }
 
 AtomicOutput::~AtomicOutput() {
@@ -233,25 +244,25 @@ int AtomicOutput::growth_error() const {
 void AtomicOutput::fail(const std::string& step, const std::string& detail) const {
     int e = m_write_errno.load();
     if (e == 0) e = growth_error();
-    throw Error(m_final, step + ": " + (e != 0 ? system_message(e) : detail.empty() ? std::string("failed") : detail));
+    throw Error(m_shown, step + ": " + (e != 0 ? system_message(e) : detail.empty() ? std::string("failed") : detail));
 }
 
 void AtomicOutput::finish() {
     if (m_finished) return;
     if (m_write_errno.load() != 0) fail("cannot write", "");
-    if (m_fd < 0) throw Error(m_final, "cannot write: the output is not open");
+    if (m_fd < 0) throw Error(m_shown, "cannot write: the output is not open");
     if (!m_write_through) {
         // On the disk before it has the final name: a crash after the rename finds it whole.
-        if (::fsync(m_fd) != 0) throw Error(m_final, "cannot write (sync to disk): " + system_message(errno));
+        if (::fsync(m_fd) != 0) throw Error(m_shown, "cannot write (sync to disk): " + system_message(errno));
         // The name must still be this file: something that swapped it for a link or another
         // file in the meantime does not get it published.
         struct stat mine {}, named {};
         if (::fstat(m_fd, &mine) != 0 || ::lstat(m_temporary.c_str(), &named) != 0 || !S_ISREG(named.st_mode) ||
             mine.st_dev != named.st_dev || mine.st_ino != named.st_ino)
-            throw Error(m_final, "the temporary file " + m_temporary + " was replaced while it was written: not published");
+            throw Error(m_shown, "the temporary file " + m_temporary + " was replaced while it was written: not published");
         const int fd = m_fd;
         m_fd = -1;
-        if (::close(fd) != 0) throw Error(m_final, "cannot write (close): " + system_message(errno));
+        if (::close(fd) != 0) throw Error(m_shown, "cannot write (close): " + system_message(errno));
     }
     m_finished = true;
 }
@@ -261,7 +272,7 @@ void AtomicOutput::commit() {
     finish();
     if (!m_write_through) {
         if (::rename(m_temporary.c_str(), m_target.c_str()) != 0)
-            throw Error(m_final, "cannot move the finished output into place: " + system_message(errno));
+            throw Error(m_shown, "cannot move the finished output into place: " + system_message(errno));
         m_committed = true;
         sync_folder(folder_prefix(m_target));
         return;
@@ -269,11 +280,11 @@ void AtomicOutput::commit() {
     // Through to the device or FIFO as the user named it (a link such as /dev/stdout included);
     // no O_CREAT and no O_TRUNC: this never makes or empties a file.
     const int out = ::open(m_final.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
-    if (out < 0) throw Error(m_final, "cannot open for writing: " + system_message(errno));
+    if (out < 0) throw Error(m_shown, "cannot open for writing: " + system_message(errno));
     struct stat st {};
     if (::fstat(out, &st) != 0 || !(S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode))) {
         ::close(out);
-        throw Error(m_final, "is no longer a device or FIFO: not written");
+        throw Error(m_shown, "is no longer a device or FIFO: not written");
     }
     // To the temporary's end, not size(): a library may have written it by name.
     std::vector<char> buffer(1 << 16);
@@ -287,16 +298,26 @@ void AtomicOutput::commit() {
         offset += std::uint64_t(n);
     }
     if (::close(out) != 0 && error == 0) error = errno;
-    if (error != 0) throw Error(m_final, "cannot write: " + system_message(error));
+    if (error != 0) throw Error(m_shown, "cannot write: " + system_message(error));
     m_committed = true;
 }
 
-void publish_staged_file(const std::string& staged, const std::string& path) {
+void publish_staged_file(const std::string& staged, const std::string& path, const OutputOptions& options) {
     // First what may throw: nothing between open() and close() below does, so `in` never leaks.
-    AtomicOutput out(path);
+    AtomicOutput out(path, options);
     std::vector<char> buffer(1 << 20);
-    const int in = ::open(staged.c_str(), O_RDONLY | O_CLOEXEC);
-    if (in < 0) throw Error(staged, "cannot read the finished file: " + system_message(errno));
+    // O_NONBLOCK: a FIFO put there cannot hold the open; it is refused below.
+    const int in = ::open(staged.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    if (in < 0) {
+        const int e = errno;
+        if (e == ELOOP) throw Error(staged, "is a symbolic link, not the finished file: never read through; not published");
+        throw Error(staged, "cannot read the finished file: " + system_message(e));
+    }
+    struct stat st {};
+    if (::fstat(in, &st) != 0 || !S_ISREG(st.st_mode)) {
+        ::close(in);
+        throw Error(staged, "is not a regular file, not the finished file: not published");
+    }
     int error = 0;
     for (std::uint64_t offset = 0;;) {
         const ssize_t n = ::read(in, buffer.data(), buffer.size());

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace npf {
@@ -107,10 +108,11 @@ bool LineReader::next(std::string& line) {
     }
 }
 
-std::string read_text_file(const std::string& path, const std::string& what, const TextBounds& bounds) {
-    // The lines through LineReader (its checks), the bytes as they are (a last line without a
-    // newline stays so).
-    LineReader reader(path, what, bounds);
+namespace {
+
+// The lines through LineReader (its checks), the bytes as they are (a last line without a
+// newline stays so).
+std::string whole_text(LineReader& reader) {
     std::string text, line;
     bool first = true;
     while (reader.next(line)) {
@@ -120,6 +122,23 @@ std::string read_text_file(const std::string& path, const std::string& what, con
     }
     if (reader.ended_with_newline()) text += '\n';
     return text;
+}
+
+}  // namespace
+
+std::string read_text_file(const std::string& path, const std::string& what, const TextBounds& bounds) {
+    LineReader reader(path, what, bounds);
+    return whole_text(reader);
+}
+
+std::string read_text_file(int fd, const std::string& name, const std::string& what, const TextBounds& bounds) {
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) throw Error(name, std::string("cannot examine: ") + std::strerror(errno));
+    if (!S_ISREG(st.st_mode)) throw Error(name, "is not a regular file (expected " + what + ")");
+    if (std::uint64_t(st.st_size) > bounds.max_bytes) too_large(name, what, bounds.max_bytes);
+    if (::lseek(fd, 0, SEEK_SET) < 0) throw Error(name, std::string("cannot read: ") + std::strerror(errno));
+    LineReader reader(fd, name, bounds);
+    return whole_text(reader);
 }
 
 }  // namespace npf

@@ -28,7 +28,8 @@ private:
 };
 
 std::string sha256_hex(const std::string& text);
-// The SHA-256 of a file's bytes. Throws npf::Error naming `path` when it cannot be read.
+// The SHA-256 of a regular file's bytes. Throws npf::Error naming `path` when it cannot be read or
+// is not a regular file (a FIFO or a device is never opened for reading).
 std::string sha256_file(const std::string& path);
 
 }  // namespace npf::batch

@@ -7,6 +7,7 @@
 #include <npf/batch/config.h>
 #include <npf/batch/summary.h>
 
+#include <csignal>
 #include <functional>
 #include <string>
 #include <vector>
@@ -39,8 +40,14 @@ struct BatchOptions {
     // crashes ends the caller); for library callers that cannot name an npf executable.
     // `npf batch` sets it to itself.
     std::string worker_executable;
-    // One line per event ("[2/7] felt: converted in 1.2 s ..."); none when empty.
+    // One line per event ("[2/7] felt: converted in 1.2 s ..."), control characters in names
+    // escaped (npf::printable); none when empty.
     std::function<void(const std::string&)> log;
+    // Non-null: a stop request (a signal number, set by a signal handler), read between materials
+    // and while a worker runs. Once non-zero, the running worker is killed, the stage folder
+    // emptied, and run_batch returns with BatchSummary::stopped_by set and the materials done so
+    // far (not the one cut short). A material converting in this process is finished first.
+    const volatile std::sig_atomic_t* stop = nullptr;
 };
 
 // The hash a material's output carries (metadata `batch_hash`): SHA-256 of the hash version,
@@ -50,11 +57,21 @@ struct BatchOptions {
 std::string material_hash(const MaterialJob& job, bool source_isotropic);
 
 // Runs the shard's materials in name order, one after another. Temporaries live in <output_dir>/.npf-batch/
-// shard-K-of-N/ (cleared when a run of that shard starts; a lock file stops two runs of one
-// shard at once); outputs appear under their names only when whole (a rename). Throws
-// npf::Error only when the batch cannot run at all (output folder, lock); a material's failure
-// is in its result.
+// shard-K-of-N/ (cleared when a run of that shard starts and after every material; a lock file,
+// .npf-batch/shard-K-of-N.lock, stops two runs of one shard at once); outputs appear under their
+// names only when whole (a rename). `.npf-batch`, the shard folder, the lock, the worker's files
+// and `renders/` are the batch's own and never reached through a symbolic link (owned_folder.h):
+// a link there is an error naming it, and nothing outside the output folder is touched. Throws
+// npf::Error only when the batch cannot run at all (output folder, its own folders, lock, outputs
+// that are inputs: check_batch_files); a material's failure is in its result.
 BatchSummary run_batch(const BatchConfig& config, const BatchOptions& options);
+
+// Throws npf::Error (one line, naming the later file) when an output of the batch (a material's,
+// its validation renders, and the summary's SUMMARY_BASE.json and .md when `summary_base` is not
+// empty) is the same file as another output or as an input (the configuration included), by
+// device and inode, so that symbolic links, hard links and other spellings count
+// (npf/core/file_identity.h). Every material of the configuration, whatever the shard.
+void check_batch_files(const BatchConfig& config, const std::string& summary_base);
 
 // `npf batch --worker JOB`: converts the one material a job file (written by run_batch) names
 // into the stage folder, and writes its result and the list of finished files for the parent to

@@ -2,6 +2,8 @@
 // merge of shard summaries into one (docs/batch.md).
 #pragma once
 
+#include <npf/core/text_input.h>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -42,18 +44,29 @@ struct BatchSummary {
     double seconds = 0.0;         // wall time (merged: the sum over shards)
     std::vector<MaterialResult> materials;  // by name
     std::vector<std::string> warnings;
+    int stopped_by = 0;  // > 0: the run was stopped by this signal (not written in the summary)
 
     std::size_t count(MaterialStatus s) const;
     bool ok() const { return count(MaterialStatus::Failed) == 0; }
 };
 
+// Valid JSON whatever the names and messages hold (control characters escaped).
 std::string summary_json(const BatchSummary& summary);
+// Names and messages with their control characters escaped (npf::printable): one line each.
 std::string summary_markdown(const BatchSummary& summary);
-// Writes `<base>.json` and `<base>.md`, each atomically. Throws npf::Error.
-void write_summary(const BatchSummary& summary, const std::string& base);
+// Writes `<base>.json` and `<base>.md`, each atomically. `owned_by` non-empty ("npf batch"): the
+// names are the tool's own choice (the default summary in the output folder), so that a link at
+// them is refused rather than followed (OutputOptions::owned_by). Throws npf::Error.
+void write_summary(const BatchSummary& summary, const std::string& base, const std::string& owned_by = "");
 
-// Reads a summary written by summary_json. Throws npf::Error naming the file.
+// The bounds of a summary read back (--merge, a worker's answer): a line per material of about
+// 700 bytes, so 256 MiB holds a merged library of 300,000 materials.
+inline constexpr TextBounds kSummaryTextBounds{std::uint64_t(256) << 20, std::size_t(1) << 20};
+// Reads a summary written by summary_json, within kSummaryTextBounds. Throws npf::Error naming
+// the file.
 BatchSummary read_summary_json(const std::string& path);
+// The same from its text; `source` names it in errors.
+BatchSummary parse_summary_json(const std::string& text, const std::string& source);
 // One summary of several shards' summaries: materials of all, by name. Warns (in `warnings`)
 // about shards missing, given twice, of other shard counts or other configurations, and about a
 // material reported by two shards (the later one is kept). Throws npf::Error when `parts` is empty.

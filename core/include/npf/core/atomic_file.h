@@ -7,7 +7,8 @@
 // folder is synced after. A crash, a full disk or any error leaves the earlier output untouched and
 // removes the temporary. A symbolic link is followed (the link stays, its target is replaced); a
 // character device or FIFO (/dev/null, a pipe) is written through, never replaced; a directory,
-// block device, socket or dangling link is refused before anything is written.
+// block device, socket or dangling link is refused before anything is written. A file a tool owns
+// (OutputOptions::owned_by) is stricter: a link at its name is refused, never followed.
 #pragma once
 
 #include <atomic>
@@ -18,25 +19,38 @@
 
 namespace npf {
 
+// What a writer knows about its destination beyond its path.
+struct OutputOptions {
+    // Non-empty: the destination is a file that the tool so named ("npf batch") owns, in a folder
+    // it owns (a batch's renders, its default summary): a symbolic link at its name is refused,
+    // never followed ("PATH: is a symbolic link (to T): a file npf batch owns is never followed;
+    // remove it"), and so is anything there but a regular file.
+    std::string owned_by;
+    // Non-empty: the name messages give the destination, when `path` reaches it another way
+    // (through a folder's descriptor, /proc/self/fd/N/NAME: OwnedFolder::through).
+    std::string shown_as;
+};
+
 // Writes `size` bytes to `path` as above. Throws npf::Error naming `path`.
-void write_file_atomically(const std::string& path, const void* data, std::size_t size);
+void write_file_atomically(const std::string& path, const void* data, std::size_t size, const OutputOptions& options = {});
 
 // Throws the npf::Error that publishing to `path` would throw before writing anything: a
 // directory or other special file, a dangling link, a folder that is missing or not writable.
 // Commands call it first so that a bad -o fails before minutes of work.
-void check_output_path(const std::string& path);
+void check_output_path(const std::string& path, const OutputOptions& options = {});
 
 // An output being written. The constructor examines the destination and creates the temporary
 // (throwing npf::Error naming `path` if either fails); write_at() fills it; commit() publishes it;
 // the destructor removes the temporary if commit() never succeeded.
 class AtomicOutput {
 public:
-    explicit AtomicOutput(std::string path);
+    explicit AtomicOutput(std::string path, const OutputOptions& options = {});
     ~AtomicOutput();
     AtomicOutput(const AtomicOutput&) = delete;
     AtomicOutput& operator=(const AtomicOutput&) = delete;
 
-    const std::string& final_path() const { return m_final; }
+    // The destination as messages name it (OutputOptions::shown_as, else the path given).
+    const std::string& final_path() const { return m_shown; }
     // The temporary's name. Write through write_at() (or AtomicOutputProxy), not by opening this
     // name: the name could be swapped for a link between its creation and a later open (commit()
     // refuses a swapped temporary, but cannot undo a write through the link).
@@ -72,7 +86,8 @@ public:
 private:
     int growth_error() const;  // the errno of growing the temporary by 64 KiB, or 0
 
-    std::string m_final;      // as given, for messages and writing through
+    std::string m_final;      // as given, for the system calls and writing through
+    std::string m_shown;      // for messages
     std::string m_target;     // what the rename replaces: m_final, or a link's resolved target
     std::string m_temporary;
     int m_fd = -1;
@@ -90,11 +105,12 @@ private:
 void commit_together(std::initializer_list<AtomicOutput*> outputs);
 
 // Publishes a finished file written elsewhere (a batch worker's staging folder) to `path` by the
-// rules above: its bytes are copied into an AtomicOutput for `path` and committed, then `staged`
-// is removed. A rename of the staged file would skip them (it replaces a link or a FIFO at `path`
-// instead of following or writing through it, and syncs nothing). Throws npf::Error naming `path`
-// (or `staged` when it cannot be read); the earlier output is then untouched.
-void publish_staged_file(const std::string& staged, const std::string& path);
+// rules above (and `options`): its bytes are copied into an AtomicOutput for `path` and committed,
+// then `staged` is removed. A rename of the staged file would skip them (it replaces a link or a
+// FIFO at `path` instead of following or writing through it, and syncs nothing). The staged file
+// is the tool's own: a link at its name is refused, never read through. Throws npf::Error naming
+// `path` (or `staged` when it cannot be read); the earlier output is then untouched.
+void publish_staged_file(const std::string& staged, const std::string& path, const OutputOptions& options = {});
 
 // The name of a temporary AtomicOutput makes for `path` is `path` + this + 16 hex digits: a
 // leftover after kill -9 can be told from other files.

@@ -30,6 +30,9 @@ inline constexpr TextBounds kStreamTextBounds{std::uint64_t(16) << 30, std::size
 // whose size is within the cap (checked before reading), with no line above the line cap and no
 // NUL byte. Throws npf::Error naming `path` (and the line, for a line too long or a NUL).
 std::string read_text_file(const std::string& path, const std::string& what, const TextBounds& bounds);
+// The same from a descriptor open on a regular file (not closed here), read from its start;
+// `name` names it in messages. For files opened without following links (owned_folder.h).
+std::string read_text_file(int fd, const std::string& name, const std::string& what, const TextBounds& bounds);
 
 // Lines of a text stream, read in blocks: a line without end costs its cap, not the stream.
 // `name` is what messages call the stream ("<stdin>", a path); errors are npf::Error naming
