@@ -236,6 +236,30 @@ def issue_33_cases(c, good, raw):
            lambda: open(null_env, "wb").close(),
            ["render", small, "-o", p("e.exr"), "--env", null_env, "--size", "8", "--spp", "1", "--quiet"], 1, timeout=60,
            memory_gib=8)
+    # The batch's own places, and its outputs against its inputs.
+    def batch_folder(name, output_link=False):
+        root = p(name)
+        shutil.rmtree(root, ignore_errors=True)
+        for d in ("in", "out/.npf-batch", "victim/sub"):
+            os.makedirs(os.path.join(root, d))
+        shutil.copy(good, os.path.join(root, "in", "m.bsdf"))
+        for f in ("victim/keep.txt", "victim/sub/keep.txt"):
+            with open(os.path.join(root, f), "w") as out:
+                out.write("precious\n")
+        with open(os.path.join(root, "b.yaml"), "w") as out:
+            out.write("version: 1\noutput_dir: out\ninputs: [\"in/*.bsdf\"]\n"
+                      "defaults: {preset: preview, threads: 2, error_pairs: 0}\n")
+        if output_link:
+            os.symlink("../in/m.bsdf", os.path.join(root, "out", "m.exr"))
+        else:
+            os.symlink("../../victim", os.path.join(root, "out", ".npf-batch", "shard-0-of-1"))
+        return root
+    victim_intact = lambda s: sorted(os.listdir(p("linked/victim"))) == ["keep.txt", "sub"]  # noqa: E731
+    c.case("a link at the batch's shard folder to a folder outside", "npf batch b.yaml",
+           lambda: batch_folder("linked"), ["batch", p("linked/b.yaml"), "--quiet"], 1, victim_intact)
+    input_intact = lambda s: open(p("aliased/in/m.bsdf"), "rb").read() == raw  # noqa: E731
+    c.case("a batch output that is a link to its input", "npf batch b.yaml",
+           lambda: batch_folder("aliased", output_link=True), ["batch", p("aliased/b.yaml"), "--quiet"], 1, input_intact)
     odd = p("two\nlines.bsdf")
     c.case("a newline in a file name", "npf info 'two\\nlines.bsdf'", lambda: open(odd, "wb").write(b"junk"), ["info", odd], 1)
 

@@ -10,6 +10,7 @@
 #include <npf/converter/convert.h>
 #include <npf/converter/convert_settings_table.h>
 #include <npf/converter/open_material.h>
+#include <npf/converter/yaml_context.h>
 #include <npf/core/error.h>
 #include <npf/core/version.h>
 #include <npf/core/text.h>
@@ -63,30 +64,7 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 // changing a referenced file redoes the edit.
 std::string edit_hash_text(const std::string& recipe) {
     std::string t = "edit " + sha256_file(recipe) + "\n";
-    const fs::path dir = fs::path(recipe).parent_path();
-    std::vector<YAML::Node> todo;
-    try {
-        todo.push_back(YAML::Load(read_text_file(recipe, "an edit recipe", kRecipeTextBounds)));
-    } catch (const std::exception&) {
-        return t;  // the recipe's own loader reports the problem
-    }
-    std::map<std::string, std::string> files;
-    while (!todo.empty()) {
-        const YAML::Node n = todo.back();
-        todo.pop_back();
-        if (n.IsScalar()) {
-            const std::string v = n.Scalar();
-            if (v.empty() || v.size() > 4096 || v.find('\0') != std::string::npos) continue;
-            const fs::path p = fs::path(v).is_absolute() ? fs::path(v) : dir / v;
-            std::error_code ec;
-            if (fs::is_regular_file(p, ec)) files[v] = sha256_file(p.string());
-        } else if (n.IsSequence()) {
-            for (const YAML::Node& c : n) todo.push_back(c);
-        } else if (n.IsMap()) {
-            for (const auto& kv : n) todo.push_back(kv.second);
-        }
-    }
-    for (const auto& [name, h] : files) t += "edit-file " + name + " " + h + "\n";
+    for (const auto& [name, path] : files_named_in_yaml(recipe)) t += "edit-file " + name + " " + sha256_file(path) + "\n";
     return t;
 }
 
@@ -104,8 +82,10 @@ std::optional<std::map<std::string, std::string>> header_of(const std::string& p
     // Outputs are NPF textures: sniffed first (its header checks keep a damaged file at an
     // output's name from reaching OpenImageIO's assertions); renders are the batch's own.
     if (npf_texture && !is_npf_texture(path)) return std::nullopt;
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) {
+    // The OpenEXR reader whatever the name says (OpenImageIO would choose by the extension).
+    auto in = OIIO::ImageInput::create("openexr");
+    OIIO::ImageSpec spec;
+    if (!in || !in->open(path, spec)) {
         OIIO::geterror();  // clear it
         return std::nullopt;
     }
