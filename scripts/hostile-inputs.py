@@ -186,6 +186,13 @@ def issue_33_cases(c, good, raw):
            lambda: open(needle, "w").write("lobes:\n  - {distribution: ggx, alpha: 0.0001, weight: 1000000}\n"),
            ["info", needle], 1)
 
+    griddy = p("griddy.yaml")
+    c.case("a recipe whose grid is 4096 on every axis", "npf synth --recipe griddy.yaml -o g.bsdf",
+           lambda: open(griddy, "w").write("lobes:\n  - {distribution: ggx, alpha: 0.3}\n"
+                                           "grid: {phi: 4096, theta: 4096, data: 4096, vndf: 4096}\nanisotropy: anisotropic\n"),
+           ["synth", "--recipe", griddy, "-o", p("g.bsdf")], 1, lambda s: not os.path.exists(p("g.bsdf")), timeout=120,
+           memory_gib=8)
+
     # Outputs against each other and the inputs.
     m = p("alias.exr")
     def fresh_alias():

@@ -170,6 +170,16 @@ TEST(HostileSizes, AFactorTextureMayNotExpandFarBeyondItsSize) {
     expect_fails_with({"info", "--check", path}, "its tables would take");
 }
 
+TEST(HostileSizes, ARecipesGridMayNotAskForMoreThanTheReaderTakes) {
+    // Every axis at its 4096 maximum: 10^17 bytes of vndf; an allocation failure before.
+    const std::string recipe = file("griddy.yaml");
+    std::ofstream(recipe) << "lobes:\n  - {distribution: ggx, alpha: 0.3}\ngrid: {phi: 4096, theta: 4096, data: 4096, vndf: 4096}\n"
+                             "anisotropy: anisotropic\n";
+    expect_fails_with({"synth", "--recipe", recipe, "-o", file("griddy.bsdf")},
+                      "griddy.bsdf: the grid asks for a field 'vndf' of 1073741824 MiB; an RGL field may hold at most 1024 MiB");
+    EXPECT_FALSE(fs::exists(file("griddy.bsdf")));
+}
+
 // ---- class 9: errors that hid their cause ---------------------------------------------------
 
 TEST(HostileCauses, AConversionStagesErrorNamesTheMaterial) {

@@ -169,6 +169,19 @@ void check_options(const RglWriterOptions& o, const std::string& path) {
     at_least(o.data_size, 2, "data_size");
     at_least(o.power_iterations, 1, "power_iterations");
     if (o.anisotropy != AnisotropyMode::Isotropic) at_least(o.phi_count, 3, "phi_count");
+    // Every field within what the reader takes (TensorFile::kMaxFieldBytes): a recipe's grid of
+    // 4096 on every axis asked for 10^17 bytes; a file its own reader refuses is not written.
+    const std::uint64_t phi = o.anisotropy == AnisotropyMode::Isotropic ? 1 : std::uint64_t(std::max(o.phi_count, 1));
+    const std::uint64_t slices = phi * std::uint64_t(std::max(o.theta_count, 1)), C = o.channels.size();
+    const std::uint64_t vndf = std::uint64_t(std::max(o.vndf_size, 1)), data = std::uint64_t(std::max(o.data_size, 1));
+    for (const auto& [name, bytes] : {std::pair<const char*, std::uint64_t>{"vndf", slices * vndf * vndf * 4},
+                                      {"data", slices * C * data * data * 4},
+                                      {"ndf", std::uint64_t(std::max(o.ndf_rows, 1)) * std::uint64_t(std::max(o.ndf_size, 1)) * 4}}) {
+        if (bytes > TensorFile::kMaxFieldBytes)
+            throw Error(path, std::string("the grid asks for a field '") + name + "' of " + std::to_string(bytes >> 20) +
+                                  " MiB; an RGL field may hold at most " + std::to_string(TensorFile::kMaxFieldBytes >> 20) +
+                                  " MiB (the reader's cap): choose smaller phi, theta, vndf or data sizes");
+    }
     if (!o.channels.is_rgb() && o.channels.wavelengths().empty()) throw Error(path, "no wavelengths to write");
     if (!o.channels.is_rgb()) {
         const std::vector<float>& w = o.channels.wavelengths();
