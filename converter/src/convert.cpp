@@ -276,6 +276,17 @@ ConvertReport convert_material_stages(const Brdf& source, const std::string& out
     report.input_bytes = info.file_bytes;
     const bool target = settings.target_psnr != 0.0;
     if (target) check_target_psnr(settings.target_psnr, "target_psnr");
+    // A conversion whose tables no factor texture may hold (docs/format.md sec. 8) would fit for
+    // hours and then be refused by the writer: refused now.
+    {
+        const AwlsOptions& f = settings.fit;
+        const auto cells = [](int a, int b) { return std::uint64_t(std::max(a, 1)) * std::uint64_t(std::max(b, 1)); };
+        if (cells(f.grid.theta_h, f.grid.phi_h) > NpfModel::kMaxTableCells || cells(f.g_theta, f.g_phi) > NpfModel::kMaxTableCells)
+            throw Error(info.path.empty() ? "convert" : info.path,
+                        "the fitting grid's D (" + std::to_string(f.grid.theta_h) + " x " + std::to_string(f.grid.phi_h) + ") or G (" +
+                            std::to_string(f.g_theta) + " x " + std::to_string(f.g_phi) + ") has more than the " +
+                            std::to_string(NpfModel::kMaxTableCells) + " cells a factor texture may hold");
+    }
     // The source's renders first: a missing environment map fails before the long fit.
     std::optional<PsnrPredictor> predictor;
     if (settings.predict_psnr || target) {
