@@ -165,6 +165,23 @@ TEST(ColorHostile, CycleThroughADisplayViewAndViewTransformIsRefused) {
     EXPECT_TRUE(has(m, "view transform 'vt'")) << m;
 }
 
+// Found by npf_fuzz_ocio_config: a view showing a display space without a view transform goes
+// through the default view transform (scene to display reference), which here refers back.
+TEST(ColorHostile, CycleThroughTheDefaultViewTransformIsRefused) {
+    const std::string dir = npf::testing::temporary_folder("hostile_default_vt");
+    const std::string path = write_config(dir, config_text(
+        "  - !<ColorSpace> {name: A, to_scene_reference: !<DisplayViewTransform> {src: scene, display: d, view: tone}}\n",
+        "view_transforms:\n"
+        "  - !<ViewTransform> {name: vt, from_scene_reference: !<ColorSpaceTransform> {src: A, dst: scene}}\n"
+        "display_colorspaces:\n"
+        "  - !<ColorSpace> {name: screen}\n",
+        "    - !<View> {name: tone, colorspace: screen}\n"));
+    const std::string m = refusal(path, "A");
+    expect_one_line_naming(m, path);
+    EXPECT_TRUE(has(m, "colour space 'A' refers to itself through view 'tone' of display 'd' -> view transform 'vt' -> colour space 'A'"))
+        << m;
+}
+
 TEST(ColorHostile, ReferenceChainsDeeperThanTheCapAreRefused) {
     const std::string dir = npf::testing::temporary_folder("hostile_deep");
     std::string spaces;

@@ -329,12 +329,14 @@ private:
                 const char* view = node.name.c_str();
                 // BuildDisplayOps: the view transform (or a named transform in its place), the
                 // colour space (the display's name for <USE_DISPLAY_NAME>), the looks, and the
-                // default view transform where reference spaces differ.
+                // default view transform wherever the source's reference type differs from the
+                // view's, its display space's or a look's: the source is not known here, so always
+                // (a view of a display space without a view transform goes through it).
+                cost.add(default_view_transform(depth + 1));
                 const std::string vt_name = m_config.getDisplayViewTransformName(display, view);
                 if (!vt_name.empty()) {
                     if (OCIO::ConstViewTransformRcPtr vt = m_config.getViewTransform(vt_name.c_str())) {
                         cost.add(visit({Kind::ViewTransform, vt->getName(), ""}, depth + 1));
-                        cost.add(default_view_transform(depth + 1));
                     } else if (OCIO::ConstNamedTransformRcPtr nt = m_config.getNamedTransform(vt_name.c_str())) {
                         cost.add(visit({Kind::Named, nt->getName(), ""}, depth + 1));
                     }
