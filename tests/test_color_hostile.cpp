@@ -273,6 +273,27 @@ TEST(ColorHostile, AliasesExpandingBeyondTheCapAreRefused) {
     EXPECT_TRUE(has(m, "its YAML expands to more than 1048576 nodes")) << m;
 }
 
+// OCIO compiles file rules with std::regex at load: its compiler recursed until SIGSEGV.
+TEST(ColorHostile, FileRulesLongerThanTheCapAreRefused) {
+    const std::string dir = npf::testing::temporary_folder("hostile_file_rule");
+    std::string text = config_text("");
+    const std::string rule = "  - !<Rule> {name: Default, colorspace: default}\n";
+    text.replace(text.find(rule), rule.size(),
+                 "  - !<Rule> {name: deep, colorspace: scene, regex: \"" + std::string(20000, '(') + "a" + std::string(20000, ')') +
+                     "\"}\n" + rule);
+    const std::string path = write_config(dir, text);
+    std::string m = error_of([&] { list_display_views(path); });
+    expect_one_line_naming(m, path);
+    EXPECT_TRUE(has(m, "a file rule's regex (line 5) has 40001 characters, above npf's cap of 1024")) << m;
+    // A glob is turned into a regex too.
+    text = config_text("");
+    text.replace(text.find(rule), rule.size(),
+                 "  - !<Rule> {name: stars, colorspace: scene, pattern: \"" + std::string(2000, '*') + "\", extension: exr}\n" + rule);
+    const std::string glob = write_config(npf::testing::temporary_folder("hostile_file_rule_glob"), text);
+    m = error_of([&] { list_display_views(glob); });
+    EXPECT_TRUE(has(m, "a file rule's pattern (line 5) has 2000 characters")) << m;
+}
+
 // The config itself is read within kConfigTextBounds (before: OCIO read /dev/zero or a FIFO
 // without end).
 TEST(ColorHostile, ConfigThatIsNotARegularFileIsRefused) {

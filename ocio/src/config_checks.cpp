@@ -35,6 +35,10 @@ constexpr int kMaxYamlDepth = 256;
 // Context variable resolution: replacement passes and the length of what they produce.
 constexpr int kMaxResolvePasses = 16;
 constexpr std::size_t kMaxResolvedBytes = std::size_t(1) << 16;
+// A file rule's pattern, extension or regex: OCIO compiles them with std::regex when it loads the
+// config, and libstdc++'s regex compiler and matcher recurse per character (a regex of 20000
+// nested parentheses overflowed the stack). Real rules are a few dozen characters.
+constexpr std::size_t kMaxFileRuleBytes = 1024;
 // Reasons from OCIO are cut here (a LUT error lists every reader's complaint).
 constexpr std::size_t kMaxReasonBytes = 600;
 
@@ -611,6 +615,21 @@ void check_config_text(const std::string& text, const std::string& path) {
             throw Error(path, "it names " + std::to_string(names) +
                                   " colour spaces, named transforms and aliases, above npf's cap of " +
                                   std::to_string(kMaxConfigNames) + ": refused");
+        const YAML::Node rules = root["file_rules"];
+        if (is_sequence(rules)) {
+            for (const auto& rule : rules) {
+                if (!rule.IsMap()) continue;
+                for (const char* key : {"pattern", "extension", "regex"}) {
+                    const YAML::Node value = rule[key];
+                    if (!value.IsDefined() || !value.IsScalar() || value.Scalar().size() <= kMaxFileRuleBytes) continue;
+                    const int line = value.Mark().line;
+                    throw Error(path, std::string("a file rule's ") + key + (line >= 0 ? " (line " + std::to_string(line + 1) + ")" : "") +
+                                          " has " + std::to_string(value.Scalar().size()) + " characters, above npf's cap of " +
+                                          std::to_string(kMaxFileRuleBytes) +
+                                          " (OpenColorIO compiles it with std::regex, which recurses per character): refused");
+                }
+            }
+        }
     } catch (const YAML::Exception&) {
         return;  // a shape the walk did not expect: OCIO reads it (and says what is wrong)
     }
