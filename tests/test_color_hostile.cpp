@@ -240,6 +240,21 @@ TEST(ColorHostile, ContextVariablesThatNeverSettleAreRefused) {
     EXPECT_TRUE(has(m, "context variables in the ColorSpaceTransform source '$NPF_GROW' do not settle")) << m;
 }
 
+// 4096 variables over 4096 references: OCIO's validate() resolves each against all (2.5 s).
+TEST(ColorHostile, ContextVariablesTooCostlyToResolveAreRefused) {
+    const std::string dir = npf::testing::temporary_folder("hostile_context_rounds");
+    std::string environment = "environment:\n", references;
+    for (std::size_t i = 0; i < kMaxConfigListEntries; ++i) {
+        environment += "  V" + std::to_string(i) + ": scene\n";
+        references += "        - !<ColorSpaceTransform> {src: $V" + std::to_string(i) + ", dst: scene}\n";
+    }
+    const std::string path = write_config(dir, config_text(
+        "  - !<ColorSpace>\n    name: A\n    to_scene_reference: !<GroupTransform>\n      children:\n" + references, environment));
+    const std::string m = error_of([&] { list_display_views(path); });
+    expect_one_line_naming(m, path);
+    EXPECT_TRUE(has(m, "resolving its context variables (4096) in its references takes more than 4194304 rounds: refused")) << m;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Size: OCIO's load time grows with the square of the names; aliases are read as copies
 

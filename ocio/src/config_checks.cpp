@@ -32,9 +32,12 @@ namespace fs = std::filesystem;
 // YAML nesting with aliases expanded (yaml-cpp's parser stops at 2000 levels, but an alias
 // can nest a whole earlier tree again). Real configs nest about ten levels.
 constexpr int kMaxYamlDepth = 256;
-// Context variable resolution: replacement passes and the length of what they produce.
+// Context variable resolution: replacement passes and the length of what they produce, and the
+// rounds (one variable over one string, one pass) for all of the config's strings: OCIO spends
+// as many in validate() (4096 variables over 4096 references took it 2.5 s).
 constexpr int kMaxResolvePasses = 16;
 constexpr std::size_t kMaxResolvedBytes = std::size_t(1) << 16;
+constexpr std::uint64_t kMaxResolveRounds = std::uint64_t(1) << 22;
 // A file rule's pattern, extension or regex: OCIO compiles them with std::regex when it loads the
 // config, and libstdc++'s regex compiler and matcher recurse per character (a regex of 20000
 // nested parentheses overflowed the stack). Real rules are a few dozen characters.
@@ -120,19 +123,28 @@ class Resolver {
 public:
     Resolver(const OCIO::Config& config, const std::string& path)
         : m_context(config.getCurrentContext()), m_path(path) {
-        for (int i = 0; i < m_context->getNumStringVars(); ++i)
-            m_vars.emplace_back(m_context->getStringVarNameByIndex(i), m_context->getStringVarByIndex(i));
+        for (int i = 0; i < m_context->getNumStringVars(); ++i) {
+            const std::string name = m_context->getStringVarNameByIndex(i);
+            m_vars.push_back({"${" + name + "}", "$" + name, "%" + name + "%", m_context->getStringVarByIndex(i)});
+        }
     }
 
-    std::string resolve(const std::string& s, const std::string& what) const {
+    std::string resolve(const std::string& s, const std::string& what) {
+        if (!has_variables(s)) return s;
+        if (const auto known = m_settled.find(s); known != m_settled.end()) return known->second;
         std::string current = s;
         for (int pass = 0; has_variables(current); ++pass) {
+            m_rounds += m_vars.size();
+            if (m_rounds > kMaxResolveRounds)
+                throw Error(m_path, "resolving its context variables (" + std::to_string(m_vars.size()) +
+                                        ") in its references takes more than " + std::to_string(kMaxResolveRounds) +
+                                        " rounds: refused");
             std::string next = current;
             bool bounded = true;
-            for (const auto& [name, value] : m_vars) {
-                bounded = bounded && replace_all(next, "${" + name + "}", value, kMaxResolvedBytes) &&
-                          replace_all(next, "$" + name, value, kMaxResolvedBytes) &&
-                          replace_all(next, "%" + name + "%", value, kMaxResolvedBytes);
+            for (const Variable& v : m_vars) {
+                bounded = bounded && replace_all(next, v.braced, v.value, kMaxResolvedBytes) &&
+                          replace_all(next, v.plain, v.value, kMaxResolvedBytes) &&
+                          replace_all(next, v.windows, v.value, kMaxResolvedBytes);
             }
             if (next == current) break;
             if (!bounded || pass + 1 >= kMaxResolvePasses)
@@ -141,15 +153,20 @@ public:
                                         std::to_string(kMaxResolvedBytes) + " bytes): refused");
             current = std::move(next);
         }
-        return m_context->resolveStringVar(s.c_str());
+        return m_settled[s] = m_context->resolveStringVar(s.c_str());
     }
 
     const OCIO::ConstContextRcPtr& context() const { return m_context; }
 
 private:
+    struct Variable {
+        std::string braced, plain, windows, value;  // ${NAME}, $NAME, %NAME%
+    };
     OCIO::ConstContextRcPtr m_context;
     const std::string& m_path;
-    std::vector<std::pair<std::string, std::string>> m_vars;
+    std::vector<Variable> m_vars;
+    std::map<std::string, std::string> m_settled;
+    std::uint64_t m_rounds = 0;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -213,7 +230,7 @@ std::vector<std::string> look_names(const std::string& looks) {
 // through either direction is found.
 class Graph {
 public:
-    Graph(const OCIO::Config& config, const std::string& path, const Resolver& resolver)
+    Graph(const OCIO::Config& config, const std::string& path, Resolver& resolver)
         : m_config(config), m_path(path), m_resolver(resolver) {}
 
     // Every node of the config, every string OCIO resolves context variables in.
@@ -434,7 +451,7 @@ private:
 
     const OCIO::Config& m_config;
     const std::string& m_path;
-    const Resolver& m_resolver;
+    Resolver& m_resolver;
     std::map<std::string, Entry> m_entries;
     std::vector<std::string> m_path_keys, m_path_labels;
     std::vector<std::string> m_files;
@@ -446,7 +463,7 @@ private:
 // The folders OCIO looks for a relative LUT name in (Context.cpp, GetAbsoluteSearchPaths):
 // each search path with its context variables resolved, trimmed, relative ones under the
 // working dir, normalised; the working dir when there is none.
-std::vector<std::string> search_folders(const OCIO::Config& config, const Resolver& resolver) {
+std::vector<std::string> search_folders(const OCIO::Config& config, Resolver& resolver) {
     const std::string working = config.getWorkingDir();
     std::vector<std::string> out;
     for (int i = 0; i < config.getNumSearchPaths(); ++i) {
@@ -637,7 +654,7 @@ void check_config_text(const std::string& text, const std::string& path) {
 
 void check_config_graph(const OCIO::Config& config, const std::string& path) {
     try {
-        const Resolver resolver(config, path);
+        Resolver resolver(config, path);
         Graph graph(config, path, resolver);
         graph.check_all();
     } catch (const OCIO::Exception& e) {
@@ -648,7 +665,7 @@ void check_config_graph(const OCIO::Config& config, const std::string& path) {
 void check_display_luts(const OCIO::Config& config, const std::string& path, const std::string& input,
                         const std::string& display, const std::string& view) {
     try {
-        const Resolver resolver(config, path);
+        Resolver resolver(config, path);
         Graph graph(config, path, resolver);
         graph.visit_space(input);
         graph.visit_view(display, view);
