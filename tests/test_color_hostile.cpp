@@ -216,8 +216,15 @@ TEST(ColorHostile, ReferencesThatDoubleAtEachLevelAreRefused) {
     }
     spaces += "  - !<ColorSpace> {name: c" + std::to_string(levels) + ", to_scene_reference: !<MatrixTransform> {}}\n";
     const std::string path = write_config(dir, config_text(spaces));
-    const std::string m = refusal(path, "c0");
+    std::string m = refusal(path, "c0");
     expect_one_line_naming(m, path);
+    EXPECT_TRUE(has(m, "expands to more than 4096 transforms")) << m;
+    // Found by npf_fuzz_ocio_config: the same when the last space has no transform at all (OCIO
+    // still builds no-ops for each of the 2^n conversions; 2^15 took it past 20 s).
+    spaces.replace(spaces.find(", to_scene_reference: !<MatrixTransform> {}"), std::string(", to_scene_reference: !<MatrixTransform> {}").size(), "");
+    const std::string empty_last = write_config(npf::testing::temporary_folder("hostile_doubling_empty"), config_text(spaces));
+    m = refusal(empty_last, "c0");
+    expect_one_line_naming(m, empty_last);
     EXPECT_TRUE(has(m, "expands to more than 4096 transforms")) << m;
 }
 

@@ -192,8 +192,10 @@ struct Node {
     }
 };
 
-// What a node or transform costs OCIO: the transforms it expands to with every reference
-// followed (saturating), and how many levels (nodes and groups) lie below it.
+// What a node or transform costs OCIO: the transforms and references it expands to with every
+// reference followed (saturating; a reference counts even when it adds no transform: OCIO still
+// builds its allocation no-ops, and 2^15 of them took its CPU processor past 20 s), and how many
+// levels (nodes and groups) lie below it.
 struct Cost {
     std::uint64_t leaves = 0;
     int height = 0;
@@ -304,6 +306,7 @@ private:
         m_path_labels.push_back(node.label());
         Cost cost = expand(node, depth);
         cost.height += 1;
+        cost.add({1, 0});
         if (cost.leaves > kMaxExpandedTransforms)
             throw Error(m_path, node.label() + " expands to more than " + std::to_string(kMaxExpandedTransforms) +
                                     " transforms with its references followed: refused");
@@ -416,7 +419,7 @@ private:
     Cost transform(const OCIO::ConstTransformRcPtr& t, int depth) {
         if (!t) return {};
         if (depth >= kMaxReferenceDepth) too_deep("a transform");
-        Cost cost;
+        Cost cost{1, 0};
         if (auto group = OCIO::DynamicPtrCast<const OCIO::GroupTransform>(t)) {
             for (int i = 0; i < group->getNumTransforms(); ++i) cost.add(transform(group->getTransform(i), depth + 1));
             cost.height += 1;
@@ -444,7 +447,6 @@ private:
                 m_resolver.resolve(file->getCCCId(), "the CCC id");
                 if (std::find(m_files.begin(), m_files.end(), src) == m_files.end()) m_files.push_back(src);
             }
-            cost.leaves = 1;
         }
         return cost;
     }
