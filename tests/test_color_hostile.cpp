@@ -431,6 +431,24 @@ TEST(ColorHostile, LutAboveTheSizeCapIsRefused) {
     EXPECT_TRUE(has(m, "huge.cube) is 268435457 bytes, above npf's cap of 268435456 (256 MiB) for a LUT: refused")) << m;
 }
 
+// OCIO builds a table for each use of a LUT: 129 uses of a 2 MiB file are 258 MiB.
+TEST(ColorHostile, LutReadsAboveTheSizeCapTogetherAreRefused) {
+    const std::string dir = npf::testing::temporary_folder("hostile_lut_uses");
+    std::string padded = kHalvingCube;
+    while (padded.size() < (std::size_t(2) << 20)) padded += "# " + std::string(1000, 'x') + "\n";
+    padded.resize(std::size_t(2) << 20);
+    padded.back() = '\n';
+    write_file(dir + "/luts/padded.cube", padded);
+    std::string uses;
+    for (int i = 0; i < 129; ++i) uses += "        - !<FileTransform> {src: padded.cube}\n";
+    const std::string path = write_config(dir, config_text(
+        "  - !<ColorSpace>\n    name: lut\n    to_scene_reference: !<GroupTransform>\n      children:\n" + uses));
+    const std::string m = refusal(path, "lut");
+    expect_one_line_naming(m, path);
+    EXPECT_TRUE(has(m, "the display transform from 'lut' to 'd' / 'v' reads LUT files 129 times, 270532608 bytes in all, "
+                       "above npf's cap of 268435456 (256 MiB): refused")) << m;
+}
+
 TEST(ColorHostile, LutsOutsideTheSearchPathAreRefused) {
     // Through '..', by an absolute path, and through a link out of the folder: all to a valid LUT.
     for (const std::string how : {"dotdot", "absolute", "link"}) {

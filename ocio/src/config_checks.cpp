@@ -232,8 +232,10 @@ std::vector<std::string> look_names(const std::string& looks) {
 // through either direction is found.
 class Graph {
 public:
-    Graph(const OCIO::Config& config, const std::string& path, Resolver& resolver)
-        : m_config(config), m_path(path), m_resolver(resolver) {}
+    // `each_use`: every reference is expanded again, not taken from memory, so that files()
+    // counts each use of a LUT (only once check_all has passed: expansions are then bounded).
+    Graph(const OCIO::Config& config, const std::string& path, Resolver& resolver, bool each_use = false)
+        : m_config(config), m_path(path), m_resolver(resolver), m_each_use(each_use) {}
 
     // Every node of the config, every string OCIO resolves context variables in.
     void check_all() {
@@ -256,8 +258,8 @@ public:
     void visit_space(const std::string& name) { reference(name, name, 0, nullptr); }
     void visit_view(const std::string& display, const std::string& view) { visit({Kind::View, view, display}, 0); }
 
-    // The FileTransform sources met so far, unresolved, each once.
-    const std::vector<std::string>& files() const { return m_files; }
+    // The FileTransform sources met so far, unresolved, and how many times each was met.
+    const std::map<std::string, std::uint64_t>& files() const { return m_files; }
 
 private:
     enum class State { Fresh, OnPath, Done };
@@ -288,7 +290,7 @@ private:
 
     Cost visit(const Node& node, int depth) {
         Entry& entry = m_entries[node.key()];  // std::map: references stay valid as it grows
-        if (entry.state == State::Done) {
+        if (entry.state == State::Done && !m_each_use) {
             if (depth + entry.cost.height > kMaxReferenceDepth) too_deep(node.label());
             return entry.cost;
         }
@@ -445,7 +447,7 @@ private:
                 const std::string src = file->getSrc();
                 m_resolver.resolve(src, "the LUT name");
                 m_resolver.resolve(file->getCCCId(), "the CCC id");
-                if (std::find(m_files.begin(), m_files.end(), src) == m_files.end()) m_files.push_back(src);
+                ++m_files[src];
             }
         }
         return cost;
@@ -456,7 +458,8 @@ private:
     Resolver& m_resolver;
     std::map<std::string, Entry> m_entries;
     std::vector<std::string> m_path_keys, m_path_labels;
-    std::vector<std::string> m_files;
+    bool m_each_use;
+    std::map<std::string, std::uint64_t> m_files;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -533,8 +536,9 @@ std::string read_lut(const std::string& config_path, const std::string& label, c
 // One LUT, resolved as Context::resolveFileLocation does: an absolute name as it is, a relative
 // one in the first search folder where something by that name exists; OCIO then opens the
 // lexically normalised path (so "x/../../y" leaves the folder without any x existing).
-void check_lut(const std::string& config_path, const std::string& src, const std::string& resolved,
-               const std::vector<std::string>& folders) {
+// Returns the file's size.
+std::uint64_t check_lut(const std::string& config_path, const std::string& src, const std::string& resolved,
+                        const std::vector<std::string>& folders) {
     const std::string name = "LUT " + quote(src);
     std::string opened;
     const bool absolute = !resolved.empty() && resolved.front() == '/';
@@ -570,8 +574,10 @@ void check_lut(const std::string& config_path, const std::string& src, const std
     if (!inside)
         throw Error(config_path, label + " lies outside the config's search path (" + join_quoted(folders) +
                                      (ec ? std::string() : "; it is " + real.string()) + "): refused");
-    const std::string problem = lut_content_problem(read_lut(config_path, label, opened));
+    const std::string bytes = read_lut(config_path, label, opened);
+    const std::string problem = lut_content_problem(bytes);
     if (!problem.empty()) throw Error(config_path, label + ": " + problem + ": refused");
+    return bytes.size();
 }
 
 // The first FileTransform of any colour space, look, view transform or named transform (for a
@@ -668,13 +674,22 @@ void check_display_luts(const OCIO::Config& config, const std::string& path, con
                         const std::string& display, const std::string& view) {
     try {
         Resolver resolver(config, path);
-        Graph graph(config, path, resolver);
+        Graph graph(config, path, resolver, true);
         graph.visit_space(input);
         graph.visit_view(display, view);
         if (graph.files().empty()) return;
         const std::vector<std::string> folders = search_folders(config, resolver);
-        for (const std::string& src : graph.files())
-            check_lut(path, src, resolver.resolve(src, "the LUT name"), folders);
+        // OCIO builds a table for each use of a LUT (1000 uses of one 7 MB .cube took 3 GB and
+        // 14 s): the bytes of all uses together are bounded as one LUT's are.
+        std::uint64_t total = 0, uses = 0;
+        for (const auto& [src, count] : graph.files()) {
+            total += check_lut(path, src, resolver.resolve(src, "the LUT name"), folders) * count;
+            uses += count;
+        }
+        if (total > kMaxLutBytes)
+            throw Error(path, "the display transform from " + quote(input) + " to " + quote(display) + " / " + quote(view) +
+                                  " reads LUT files " + std::to_string(uses) + " times, " + std::to_string(total) +
+                                  " bytes in all, above npf's cap of " + std::to_string(kMaxLutBytes) + " (256 MiB): refused");
     } catch (const OCIO::Exception& e) {
         throw Error(path, "cannot check the config's LUTs: " + ocio_reason(e, &config));
     }

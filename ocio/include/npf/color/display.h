@@ -50,9 +50,10 @@ inline constexpr int kMaxReferenceDepth = 64;
 // followed (OCIO copies a referenced space's transforms at each use: a DAG that refers twice to
 // the next level doubles per level).
 inline constexpr std::uint64_t kMaxExpandedTransforms = 4096;
-// A LUT file (FileTransform): the largest LUT OCIO 2.1 builds (a 129^3 3D LUT, or a 1D LUT of
-// 2^20 entries) is under 80 MB as text; 256 MiB leaves room for markup and comments and bounds
-// what one file costs OCIO, which reads it whole.
+// A LUT file (FileTransform), and the LUT files one display transform reads, counted at each
+// use (OCIO builds a table for each): the largest LUT OCIO 2.1 builds (a 129^3 3D LUT, or a 1D
+// LUT of 2^20 entries) is under 80 MB as text; 256 MiB leaves room for markup and comments and
+// bounds what the files cost OCIO, which reads each whole.
 inline constexpr std::uint64_t kMaxLutBytes = std::uint64_t(256) << 20;
 
 struct DisplayOptions {
