@@ -655,8 +655,9 @@ void check_config_text(const std::string& text, const std::string& path) {
                 }
             }
         }
-    } catch (const YAML::Exception&) {
-        return;  // a shape the walk did not expect: OCIO reads it (and says what is wrong)
+    } catch (const YAML::Exception& e) {
+        // yaml-cpp parsed it but cannot walk it: not a config to hand on unchecked.
+        throw Error(path, std::string("invalid OpenColorIO config: ") + first_line(e.what()));
     }
 }
 
