@@ -156,8 +156,6 @@ public:
         return m_settled[s] = m_context->resolveStringVar(s.c_str());
     }
 
-    const OCIO::ConstContextRcPtr& context() const { return m_context; }
-
 private:
     struct Variable {
         std::string braced, plain, windows, value;  // ${NAME}, $NAME, %NAME%
@@ -197,11 +195,11 @@ struct Node {
 // builds its allocation no-ops, and 2^15 of them took its CPU processor past 20 s), and how many
 // levels (nodes and groups) lie below it.
 struct Cost {
-    std::uint64_t leaves = 0;
+    std::uint64_t steps = 0;
     int height = 0;
 
     void add(const Cost& c) {
-        leaves = std::min<std::uint64_t>(leaves + c.leaves, std::uint64_t(1) << 62);
+        steps = std::min<std::uint64_t>(steps + c.steps, std::uint64_t(1) << 62);
         height = std::max(height, c.height);
     }
 };
@@ -309,7 +307,7 @@ private:
         Cost cost = expand(node, depth);
         cost.height += 1;
         cost.add({1, 0});
-        if (cost.leaves > kMaxExpandedTransforms)
+        if (cost.steps > kMaxExpandedTransforms)
             throw Error(m_path, node.label() + " expands to more than " + std::to_string(kMaxExpandedTransforms) +
                                     " transforms with its references followed: refused");
         m_path_keys.pop_back();
