@@ -1,11 +1,15 @@
 // DisplayTransform: the config search, name resolution and one OpenColorIO CPU processor.
 #include <npf/color/display.h>
 #include <npf/core/error.h>
+#include <npf/core/text_input.h>
+
+#include "config_checks.h"
 
 #include <OpenColorIO/OpenColorIO.h>
 
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <utility>
 
 // Set by ocio/CMakeLists.txt: the shipped config in the source tree, in the configured install
@@ -67,13 +71,30 @@ LoadedConfig load_config(const std::string& explicit_path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw Error(path, "OpenColorIO config not found" + note);
     if (fs::is_directory(path, ec)) throw Error(path, "is a folder, not an OpenColorIO config" + note);
+    // Read within bounds (a regular file, kConfigTextBounds, no NUL) and checked before OCIO
+    // parses it (config_checks.h); OCIO gets the text.
+    const std::string text = read_text_file(path, "an OpenColorIO config", kConfigTextBounds);
+    detail::check_config_text(text, path);
+    OCIO::ConfigRcPtr config;
     try {
-        OCIO::ConstConfigRcPtr config = OCIO::Config::CreateFromFile(path.c_str());
-        config->validate();
-        return {path, config};
-    } catch (const OCIO::Exception& e) {
-        throw Error(path, std::string("invalid OpenColorIO config") + note + ": " + e.what());
+        std::istringstream stream(text);
+        config = OCIO::Config::CreateFromStream(stream)->createEditableCopy();
+        // CreateFromFile would set this (AbsPath of the file, its folder): relative search paths
+        // start there.
+        const fs::path absolute = fs::absolute(path, ec);
+        config->setWorkingDir((ec ? fs::path(path) : absolute).lexically_normal().parent_path().string().c_str());
+    } catch (const std::exception& e) {
+        throw Error(path, std::string("invalid OpenColorIO config") + note + ": " + detail::ocio_reason(e));
     }
+    // Before validate(), which resolves context variables without a bound, and before any
+    // processor, which follows references by recursion.
+    detail::check_config_graph(*config, path);
+    try {
+        config->validate();
+    } catch (const OCIO::Exception& e) {
+        throw Error(path, std::string("invalid OpenColorIO config") + note + ": " + detail::ocio_reason(e, config.get()));
+    }
+    return {path, config};
 }
 
 std::vector<std::string> active_displays(const OCIO::Config& config) {
@@ -156,7 +177,7 @@ std::vector<DisplayViews> list_display_views(const std::string& config_path) {
             if (d != default_display) out.push_back({d, active_views(config, d)});
         return out;
     } catch (const OCIO::Exception& e) {
-        throw Error(loaded.path, e.what());
+        throw Error(loaded.path, detail::ocio_reason(e, loaded.config.get()));
     }
 }
 
@@ -182,6 +203,8 @@ DisplayTransform::DisplayTransform(const DisplayOptions& options) : m_impl(std::
             throw Error(im.config_path, "unknown view '" + im.view + "' for display '" + im.display +
                                             "' (views: " + join(active_views(config, im.display)) + ")");
         im.input = resolve_input(config, options, im.config_path);
+        // The LUTs this processor opens, before OCIO opens them.
+        detail::check_display_luts(config, im.config_path, im.input, im.display, im.view);
 
         OCIO::DisplayViewTransformRcPtr dvt = OCIO::DisplayViewTransform::Create();
         dvt->setSrc(im.input.c_str());
@@ -190,7 +213,7 @@ DisplayTransform::DisplayTransform(const DisplayOptions& options) : m_impl(std::
         // Built once; the CPU processor is immutable and shared by every apply().
         im.cpu = config.getProcessor(dvt)->getDefaultCPUProcessor();
     } catch (const OCIO::Exception& e) {
-        throw Error(im.config_path, std::string("cannot build the display transform: ") + e.what());
+        throw Error(im.config_path, "cannot build the display transform: " + detail::ocio_reason(e, &config));
     }
 }
 
@@ -213,7 +236,7 @@ void DisplayTransform::apply(float* pixels, std::size_t width, std::size_t heigh
         OCIO::PackedImageDesc image(pixels, static_cast<long>(width), static_cast<long>(height), channels);
         m_impl->cpu->apply(image);
     } catch (const OCIO::Exception& e) {
-        throw Error(m_impl->config_path, std::string("display transform failed: ") + e.what());
+        throw Error(m_impl->config_path, "display transform failed: " + detail::ocio_reason(e));
     }
 }
 
@@ -222,7 +245,7 @@ std::array<double, 3> DisplayTransform::apply(const std::array<double, 3>& colou
     try {
         m_impl->cpu->applyRGB(rgb);
     } catch (const OCIO::Exception& e) {
-        throw Error(m_impl->config_path, std::string("display transform failed: ") + e.what());
+        throw Error(m_impl->config_path, "display transform failed: " + detail::ocio_reason(e));
     }
     return {rgb[0], rgb[1], rgb[2]};
 }

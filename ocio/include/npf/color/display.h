@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +30,31 @@ enum class SceneSpace {
     // "lin_ciexyz_d65", then the role cie_xyz_d65_interchange.
     CieXyzD65,
 };
+
+// What npf checks before OpenColorIO acts on a config (docs/color.md, "Hostile configs"): OCIO
+// 2.1 recurses through references without a guard, loads a config in time that grows with the
+// square of its names and sizes some LUT tables by what a file claims, so a config beyond these
+// is refused with an npf::Error naming it. No config of a real pipeline comes near them.
+//
+// Colour spaces, display colour spaces, named transforms and all their aliases together (OCIO
+// checks each new name against all earlier ones: 4096 names load in about a second).
+inline constexpr std::size_t kMaxConfigNames = 4096;
+// Entries of any one YAML list or map, and YAML nodes in all with anchors expanded (OCIO reads
+// an alias as a copy: a few anchors nested would otherwise cost 2^n).
+inline constexpr std::size_t kMaxConfigListEntries = 4096;
+inline constexpr std::size_t kMaxConfigYamlNodes = std::size_t(1) << 20;
+// References followed from one transform (colour space -> colour space, look, view, named
+// transform, view transform) plus GroupTransform nesting: OCIO follows each by recursion.
+inline constexpr int kMaxReferenceDepth = 64;
+// Transforms one colour space, look, view or named transform expands to with every reference
+// followed (OCIO copies a referenced space's transforms at each use: a DAG that refers twice to
+// the next level doubles per level).
+inline constexpr std::uint64_t kMaxExpandedTransforms = 4096;
+// A LUT file (FileTransform), and the LUT files one display transform reads, counted at each
+// use (OCIO builds a table for each): the largest LUT OCIO 2.1 builds (a 129^3 3D LUT, or a 1D
+// LUT of 2^20 entries) is under 80 MB as text; 256 MiB leaves room for markup and comments and
+// bounds what the files cost OCIO, which reads each whole.
+inline constexpr std::uint64_t kMaxLutBytes = std::uint64_t(256) << 20;
 
 struct DisplayOptions {
     std::string config_path;       // empty: $OCIO if set and non-empty, else the shipped config
@@ -54,7 +80,7 @@ struct DisplayViews {
 };
 
 // The displays of a config (resolved as above) and their views; the default display first.
-// Throws npf::Error naming the config file when it cannot be loaded.
+// Throws npf::Error naming the config file when it cannot be loaded or is refused (above).
 std::vector<DisplayViews> list_display_views(const std::string& config_path = "");
 
 // One display transform, built once: scene-referred input -> display-encoded output (for the
@@ -65,7 +91,10 @@ std::vector<DisplayViews> list_display_views(const std::string& config_path = ""
 class DisplayTransform {
 public:
     // Loads and validates the config and builds the processor. Throws npf::Error naming the
-    // config file for a missing or invalid config, an unknown display, view or colour space.
+    // config file for a missing, invalid or refused config (above: cycles, sizes), an unknown
+    // display, view or colour space, or a LUT the processor needs that is missing, not a regular
+    // file, above kMaxLutBytes, outside the config's search path or claiming more data than it
+    // holds.
     explicit DisplayTransform(const DisplayOptions& options = {});
     ~DisplayTransform();
     DisplayTransform(DisplayTransform&&) noexcept;
