@@ -243,6 +243,59 @@ def issue_33_cases(c, good, raw):
            lambda: open(null_env, "wb").close(),
            ["render", small, "-o", p("e.exr"), "--env", null_env, "--size", "8", "--spp", "1", "--quiet"], 1, timeout=60,
            memory_gib=8)
+    # Colour configurations: refused, not crashed or hung on.
+    scene = p("scene.exr")
+    subprocess.run([c.npf, "render", small, "-o", scene, "--size", "8", "--spp", "1", "--quiet"], check=True)
+    png = p("shown.png")
+    no_png = lambda s: not os.path.exists(png)  # noqa: E731
+
+    def ocio_config(name, spaces, lut=None, lut_data=None):
+        folder = p(name)
+        shutil.rmtree(folder, ignore_errors=True)
+        os.makedirs(os.path.join(folder, "luts"))
+        view = "lut" if lut else "scene"
+        with open(os.path.join(folder, "config.ocio"), "w") as out:
+            out.write("ocio_profile_version: 2.1\nsearch_path: \"luts\"\nroles: {default: scene, scene_linear: scene}\n"
+                      "file_rules:\n  - !<Rule> {name: Default, colorspace: default}\n"
+                      "displays:\n  d:\n    - !<View> {name: v, colorspace: %s}\ncolorspaces:\n"
+                      "  - !<ColorSpace> {name: scene}\n%s" % (view, spaces))
+            if lut:
+                out.write("  - !<ColorSpace> {name: lut, from_scene_reference: !<FileTransform> {src: %s}}\n" % lut)
+        if lut_data:
+            lut_data(folder)
+        if os.path.exists(png):
+            os.remove(png)
+        return os.path.join(folder, "config.ocio")
+    cycle_config = p("cycle.ocio")
+
+    def write_cycle():
+        with open(cycle_config, "w") as out:
+            out.write("ocio_profile_version: 2.1\nroles: {default: A, scene_linear: A}\n"
+                      "file_rules:\n  - !<Rule> {name: Default, colorspace: default}\n"
+                      "displays:\n  d:\n    - !<View> {name: v, colorspace: out}\ncolorspaces:\n  - !<ColorSpace> {name: out}\n"
+                      "  - !<ColorSpace> {name: A, to_scene_reference: !<ColorSpaceTransform> {src: B, dst: out}}\n"
+                      "  - !<ColorSpace> {name: B, to_scene_reference: !<ColorSpaceTransform> {src: A, dst: out}}\n")
+        if os.path.exists(png):
+            os.remove(png)
+    c.case("an OCIO config whose colour spaces refer to each other", "npf display scene.exr --config cycle.ocio", write_cycle,
+           ["display", scene, "-o", png, "--config", cycle_config], 1, no_png, timeout=60)
+    fifo_config = p("fifo.ocio")
+    c.case("an OCIO config that is a FIFO", "npf display scene.exr --config fifo.ocio",
+           lambda: os.path.exists(fifo_config) or os.mkfifo(fifo_config),
+           ["display", scene, "-o", png, "--config", fifo_config], 1, no_png, timeout=30)
+    fifo_lut = p("fifolut/config.ocio")
+    c.case("an OCIO config whose LUT is a FIFO", "npf display scene.exr --config fifolut.ocio",
+           lambda: ocio_config("fifolut", "", "fifo.cube", lambda f: os.mkfifo(os.path.join(f, "luts", "fifo.cube"))),
+           ["display", scene, "-o", png, "--config", fifo_lut], 1, no_png, timeout=30)
+    outside = p("outside/config.ocio")
+
+    def outside_lut(folder):
+        with open(os.path.join(folder, "secret.cube"), "w") as out:
+            out.write("LUT_1D_SIZE 2\n0 0 0\n1 1 1\n")
+    c.case("an OCIO config whose LUT lies outside its search path", "npf display scene.exr --config outside.ocio",
+           lambda: ocio_config("outside", "", "../secret.cube", outside_lut),
+           ["display", scene, "-o", png, "--config", outside], 1, no_png, timeout=30)
+
     # The batch's own places, and its outputs against its inputs.
     def batch_folder(name, output_link=False):
         root = p(name)
