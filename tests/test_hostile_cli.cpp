@@ -1,6 +1,7 @@
 // Hostile inputs through the commands (issue 33): unbounded text (class 4), outputs that alias each
 // other or the inputs (class 7), memory out of proportion (class 8), errors that hid their cause
 // (class 9) and loose validation (class 10). Each case failed on main 2821a5e (issue 33's note).
+#include "error_of.h"
 #include "npf_test_factors.h"
 #include "raw_exr.h"
 #include "run_tool.h"
@@ -30,6 +31,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using npf::testing::contains;
+using npf::testing::error_of;
 using npf::testing::describe;
 using npf::testing::run_tool;
 using npf::testing::ToolRun;
@@ -42,15 +44,6 @@ const std::string& folder() {
 
 std::string file(const std::string& name) { return folder() + "/" + name; }
 
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const npf::Error& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "no npf::Error thrown";
-    return "";
-}
 
 const std::string& small_texture() {
     static const std::string path = [] {

@@ -2,6 +2,7 @@
 // bounds f_r cos(theta_i) cos(theta_o) from its tables' products and refuses a material above
 // kMaxMaterialValue; the bound holds at any pair; no output of an accepted material is Inf, NaN
 // or silently 0; a conversion that would drop values fails.
+#include "error_of.h"
 #include "npf_test_factors.h"
 #include "raw_exr.h"
 #include "run_tool.h"
@@ -32,6 +33,7 @@
 namespace {
 
 using npf::testing::contains;
+using npf::testing::error_of;
 using npf::testing::describe;
 using npf::testing::RawPart;
 using npf::testing::run_tool;
@@ -54,15 +56,6 @@ npf::NpfModel small_model(bool spectral) {
     return m;
 }
 
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const npf::Error& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "no npf::Error thrown";
-    return "";
-}
 
 // Every table value set to 9e11 (each under the 1e12 cap) and no checksum to give it away:
 // the review's texture, whose products reach 6e59.
