@@ -63,15 +63,6 @@ private:
     Closer m_close;
 };
 
-// True when every component of `path` ("a/b/c") exists as a link; H5Lexists needs the parents.
-bool path_exists(hid_t file, const std::string& path) {
-    for (std::size_t end = path.find('/'); ; end = path.find('/', end + 1)) {
-        const std::string prefix = path.substr(0, end);
-        if (H5Lexists(file, prefix.c_str(), H5P_DEFAULT) <= 0) return false;
-        if (end == std::string::npos) return true;
-    }
-}
-
 std::string dataset_path(int layer, const char* weight) {
     const std::string name = "dense_" + std::to_string(layer);
     return name + "/" + name + "/" + weight + ":0";
@@ -85,64 +76,281 @@ std::string shape_text(const std::vector<hsize_t>& dims) {
     return text;
 }
 
-// Reads one floating-point dataset as float, with its shape. Throws npf::Error.
-std::vector<float> read_float_dataset(hid_t file, const std::string& file_path,
-                                      const std::string& name, std::vector<hsize_t>& dims) {
-    if (!path_exists(file, name)) throw Error(file_path, "missing dataset " + name);
-    Handle dataset(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
-    if (!dataset.valid()) throw Error(file_path, name + " is not a readable dataset");
-    Handle type(H5Dget_type(dataset.get()), H5Tclose);
-    if (!type.valid() || H5Tget_class(type.get()) != H5T_FLOAT)
-        throw Error(file_path, "dataset " + name + " does not hold floating-point numbers");
-    Handle space(H5Dget_space(dataset.get()), H5Sclose);
-    const int rank = space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;
-    if (rank < 0 || rank > 2) throw Error(file_path, "dataset " + name + " has an unusable shape");
-    dims.assign(static_cast<std::size_t>(rank), 0);
-    if (rank > 0 && H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr) < 0)
-        throw Error(file_path, "dataset " + name + " has an unusable shape");
-    // Shapes are checked by the caller; this only bounds the allocation before reading, by the
-    // largest layer accepted (kMaxHiddenUnits squared).
-    const hsize_t max_count = hsize_t(NbrdfBrdf::kMaxHiddenUnits) * NbrdfBrdf::kMaxHiddenUnits;
-    hsize_t count = 1;
-    for (hsize_t d : dims) {
-        if (d > max_count || count * d > max_count)
-            throw Error(file_path, "dataset " + name + " is too large (" + shape_text(dims) + ")");
-        count *= d;
-    }
-    std::vector<float> values(static_cast<std::size_t>(count));
-    if (count > 0 && H5Dread(dataset.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT,
-                             values.data()) < 0)
-        throw Error(file_path, "cannot read dataset " + name + " (file truncated or damaged)");
-    return values;
+// What a file says about where data lie (a link target, an external file name) is shown in
+// messages cut to this length, so that a file cannot fill the message.
+constexpr std::size_t kMaxQuoted = 200;
+
+std::string quoted(std::string text) {
+    if (text.size() > kMaxQuoted) text = text.substr(0, kMaxQuoted) + "...";
+    return text;
 }
 
-// A string attribute of the root group (Keras writes `keras_version` and `backend`), or "" when
-// it is absent or not a string: it is only shown by `npf info`.
-std::string root_string_attribute(hid_t file, const char* name) {
-    if (H5Aexists(file, name) <= 0) return {};
-    Handle attribute(H5Aopen(file, name, H5P_DEFAULT), H5Aclose);
-    if (!attribute.valid()) return {};
-    Handle type(H5Aget_type(attribute.get()), H5Tclose);
-    Handle space(H5Aget_space(attribute.get()), H5Sclose);
-    if (!type.valid() || !space.valid() || H5Tget_class(type.get()) != H5T_STRING ||
-        H5Sget_simple_extent_npoints(space.get()) != 1)
-        return {};
-    Handle memory_type(H5Tcopy(H5T_C_S1), H5Tclose);
-    if (H5Tis_variable_str(type.get()) > 0) {
-        H5Tset_size(memory_type.get(), H5T_VARIABLE);
-        char* text = nullptr;
-        if (H5Aread(attribute.get(), memory_type.get(), &text) < 0 || text == nullptr) return {};
-        std::string value(text);
-        H5free_memory(text);
-        return value;
-    }
-    const std::size_t size = H5Tget_size(type.get());
-    if (size == 0 || size > 4096) return {};
-    std::vector<char> text(size + 1, '\0');
-    H5Tset_size(memory_type.get(), size + 1);  // room for the terminator HDF5 adds
-    if (H5Aread(attribute.get(), memory_type.get(), text.data()) < 0) return {};
-    return std::string(text.data());
+// The text of a C buffer that HDF5 filled, up to its terminator or its end.
+std::string buffer_text(const std::vector<char>& buffer) {
+    return std::string(buffer.data(), strnlen(buffer.data(), buffer.size()));
 }
+
+// Refuses the traversal of any external link HDF5 might meet while resolving a name, in case
+// one escapes the checks of each link below (a second line of defence; they come first).
+herr_t refuse_external_link(const char*, const char*, const char*, const char*, unsigned*, hid_t, void*) {
+    return -1;
+}
+
+// Number of hard links to an object and its type. H5Oget_info's signature changed in 1.12.
+bool object_links(hid_t location, const char* name, hid_t lapl, unsigned& links, H5O_type_t& type) {
+#if H5_VERSION_GE(1, 12, 0)
+    H5O_info2_t info;
+    if (H5Oget_info_by_name3(location, name, &info, H5O_INFO_BASIC, lapl) < 0) return false;
+#else
+    H5O_info_t info;
+    if (H5Oget_info_by_name2(location, name, &info, H5O_INFO_BASIC, lapl) < 0) return false;
+#endif
+    links = info.rc;
+    type = info.type;
+    return true;
+}
+
+const char* builtin_filter_name(H5Z_filter_t id) {
+    switch (id) {
+        case H5Z_FILTER_DEFLATE: return "deflate";
+        case H5Z_FILTER_SHUFFLE: return "shuffle";
+        case H5Z_FILTER_FLETCHER32: return "fletcher32";
+        case H5Z_FILTER_SZIP: return "szip";
+        case H5Z_FILTER_NBIT: return "nbit";
+        case H5Z_FILTER_SCALEOFFSET: return "scaleoffset";
+        default: return nullptr;
+    }
+}
+
+// Reads the network's datasets from one HDF5 file and from nothing else. HDF5 can make a file
+// read other things: external links (an object in another file), external storage (a dataset's
+// bytes in any file, a FIFO or a device included), virtual datasets (mapped from other files'
+// datasets), filters loaded from plugins (shared libraries). Each is refused before any data are
+// read, with soft links too (they can lead through external links and loops, and a network
+// needs none) and objects linked more than once (a loop, or one dataset posing as two).
+class OwnFileReader {
+public:
+    OwnFileReader(hid_t file, const std::string& path)
+        : m_file(file), m_path(path), m_lapl(H5Pcreate(H5P_LINK_ACCESS), H5Pclose),
+          m_dapl(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose) {
+        if (!m_lapl.valid() || !m_dapl.valid() ||
+            H5Pset_elink_cb(m_lapl.get(), refuse_external_link, nullptr) < 0 ||
+            H5Pset_elink_cb(m_dapl.get(), refuse_external_link, nullptr) < 0)
+            throw Error(m_path, "cannot set up the HDF5 library to read the file");
+        unsigned links = 0;
+        H5O_type_t type = H5O_TYPE_UNKNOWN;
+        if (!object_links(m_file, ".", m_lapl.get(), links, type))
+            throw Error(m_path, "cannot read the HDF5 file's root group (truncated or damaged)");
+        if (links != 1) throw Error(m_path, several_links("the root group", links));
+    }
+
+    // Whether the object `name` ("a/b/c") exists, every link on the way checked (see above).
+    bool exists(const std::string& name) const {
+        for (std::size_t end = name.find('/');; end = name.find('/', end + 1)) {
+            const std::string prefix = name.substr(0, end);
+            if (!check_link(prefix, end == std::string::npos)) return false;
+            if (end == std::string::npos) return true;
+        }
+    }
+
+    // Reads one floating-point dataset as float, with its shape. Throws npf::Error.
+    std::vector<float> read_floats(const std::string& name, std::vector<hsize_t>& dims) const {
+        if (!exists(name)) throw Error(m_path, "missing dataset " + name);
+        Handle dataset(H5Dopen2(m_file, name.c_str(), m_dapl.get()), H5Dclose);
+        if (!dataset.valid()) throw Error(m_path, name + " is not a readable dataset");
+        Handle dcpl(H5Dget_create_plist(dataset.get()), H5Pclose);
+        if (!dcpl.valid()) throw Error(m_path, "cannot read how dataset " + name + " is stored (file damaged)");
+        const H5D_layout_t layout = check_stored_inside(dcpl.get(), name);
+
+        Handle type(H5Dget_type(dataset.get()), H5Tclose);
+        if (!type.valid() || H5Tget_class(type.get()) != H5T_FLOAT)
+            throw Error(m_path, "dataset " + name + " does not hold floating-point numbers");
+        // IEEE single or double precision: HDF5 can describe other layouts of bits, which no
+        // Keras file holds and whose conversion is little-exercised code.
+        const bool ieee = H5Tequal(type.get(), H5T_IEEE_F32LE) > 0 || H5Tequal(type.get(), H5T_IEEE_F32BE) > 0 ||
+                          H5Tequal(type.get(), H5T_IEEE_F64LE) > 0 || H5Tequal(type.get(), H5T_IEEE_F64BE) > 0;
+        if (!ieee)
+            throw Error(m_path, "dataset " + name + " holds floating-point numbers of " +
+                                    std::to_string(H5Tget_size(type.get())) +
+                                    " bytes that are not IEEE single or double precision");
+        const hsize_t value_bytes = H5Tget_size(type.get());
+
+        Handle space(H5Dget_space(dataset.get()), H5Sclose);
+        const int rank = space.valid() && H5Sget_simple_extent_type(space.get()) != H5S_NULL
+                             ? H5Sget_simple_extent_ndims(space.get())
+                             : -1;
+        if (rank < 0 || rank > 2) throw Error(m_path, "dataset " + name + " has an unusable shape");
+        dims.assign(static_cast<std::size_t>(rank), 0);
+        if (rank > 0 && H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr) < 0)
+            throw Error(m_path, "dataset " + name + " has an unusable shape");
+        // Shapes are checked by the caller; this only bounds the allocation before reading, by
+        // the largest layer accepted (kMaxHiddenUnits squared).
+        hsize_t count = 1;
+        for (hsize_t d : dims) {
+            if (d > kMaxValues || count * d > kMaxValues)
+                throw Error(m_path, "dataset " + name + " is too large (" + shape_text(dims) + ")");
+            count *= d;
+        }
+        if (count > 0) check_storage_size(dataset.get(), dcpl.get(), layout, name, dims, count * value_bytes, value_bytes);
+
+        std::vector<float> values(static_cast<std::size_t>(count));
+        if (count > 0 && H5Dread(dataset.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                                 values.data()) < 0)
+            throw Error(m_path, "cannot read dataset " + name + " (file truncated or damaged)");
+        return values;
+    }
+
+private:
+    static constexpr hsize_t kMaxValues = hsize_t(NbrdfBrdf::kMaxHiddenUnits) * NbrdfBrdf::kMaxHiddenUnits;
+
+    // Checks the link `prefix` names (its parents checked already); false when it is absent.
+    bool check_link(const std::string& prefix, bool last) const {
+        // Negative when a parent is no group: absent too, as the name cannot be resolved.
+        if (H5Lexists(m_file, prefix.c_str(), m_lapl.get()) <= 0) return false;
+        H5L_info_t link;
+        if (H5Lget_info(m_file, prefix.c_str(), &link, m_lapl.get()) < 0)
+            throw Error(m_path, "cannot read the link " + prefix + " (file damaged)");
+        if (link.type == H5L_TYPE_SOFT)
+            throw Error(m_path, prefix + " is a soft link (to " + quoted(link_value(prefix, link.u.val_size, false)) +
+                                    "): a material is read through its own hard links alone");
+        if (link.type == H5L_TYPE_EXTERNAL)
+            throw Error(m_path, prefix + " is an external link (to " + quoted(link_value(prefix, link.u.val_size, true)) +
+                                    "): a material is read from its own file alone");
+        if (link.type != H5L_TYPE_HARD)
+            throw Error(m_path, prefix + " is a user-defined link (type " + std::to_string(int(link.type)) +
+                                    "): a material is read through its own hard links alone");
+        unsigned links = 0;
+        H5O_type_t type = H5O_TYPE_UNKNOWN;
+        if (!object_links(m_file, prefix.c_str(), m_lapl.get(), links, type))
+            throw Error(m_path, "cannot read the object " + prefix + " (file truncated or damaged)");
+        if (links != 1) throw Error(m_path, several_links(prefix, links));
+        return last || type == H5O_TYPE_GROUP;
+    }
+
+    static std::string several_links(const std::string& what, unsigned links) {
+        return what + " has " + std::to_string(links) +
+               " hard links to it (a link loop, or one object under several names): each object of a material has one path";
+    }
+
+    // A soft link's target path, or an external link's "file:/object".
+    std::string link_value(const std::string& name, std::size_t size, bool external) const {
+        std::vector<char> value(std::min<std::size_t>(size, 4 * kMaxQuoted) + 1, '\0');
+        if (H5Lget_val(m_file, name.c_str(), value.data(), value.size() - 1, m_lapl.get()) < 0) return "?";
+        if (!external) return buffer_text(value);
+        // An external link's value: a flags byte, then the file name and the object path, each
+        // NUL-terminated (parsed here: H5Lunpack_elink_val trusts the terminators to be there).
+        const std::size_t used = value.size() - 1;
+        if (used < 2) return "?";
+        const char* file = value.data() + 1;
+        const std::size_t file_length = strnlen(file, used - 1);
+        const std::size_t object_at = 1 + file_length + 1;
+        std::string object;
+        if (object_at < used) object.assign(value.data() + object_at, strnlen(value.data() + object_at, used - object_at));
+        return std::string(file, file_length) + ":" + object;
+    }
+
+    // Refuses a dataset whose data are not stored inside the file, or need a filter HDF5 does
+    // not build in (it would look for a plugin). Returns the layout.
+    H5D_layout_t check_stored_inside(hid_t dcpl, const std::string& name) const {
+        const H5D_layout_t layout = H5Pget_layout(dcpl);
+        if (layout == H5D_VIRTUAL) {
+            std::vector<char> file(kMaxQuoted + 1, '\0'), source(kMaxQuoted + 1, '\0');
+            std::size_t mappings = 0;
+            std::string from = "?";
+            if (H5Pget_virtual_count(dcpl, &mappings) >= 0 && mappings > 0 &&
+                H5Pget_virtual_filename(dcpl, 0, file.data(), file.size() - 1) >= 0 &&
+                H5Pget_virtual_dsetname(dcpl, 0, source.data(), source.size() - 1) >= 0)
+                from = buffer_text(file) + ":" + buffer_text(source);
+            throw Error(m_path, "dataset " + name + " is a virtual dataset (mapped from " + quoted(from) +
+                                    "): a material is read from its own file alone");
+        }
+        const int externals = H5Pget_external_count(dcpl);
+        if (externals < 0) throw Error(m_path, "cannot read how dataset " + name + " is stored (file damaged)");
+        if (externals > 0) {
+            std::vector<char> file(kMaxQuoted + 1, '\0');
+            off_t offset = 0;
+            hsize_t bytes = 0;
+            const std::string where = H5Pget_external(dcpl, 0, file.size() - 1, file.data(), &offset, &bytes) >= 0
+                                          ? buffer_text(file)
+                                          : "?";
+            throw Error(m_path, "dataset " + name + " uses external storage (file " + quoted(where) +
+                                    "): a material is read from its own file alone");
+        }
+        if (layout != H5D_CONTIGUOUS && layout != H5D_COMPACT && layout != H5D_CHUNKED)
+            throw Error(m_path, "dataset " + name + " has an unknown storage layout (file damaged)");
+        const int filters = H5Pget_nfilters(dcpl);
+        if (filters < 0) throw Error(m_path, "cannot read the filters of dataset " + name + " (file damaged)");
+        for (int i = 0; i < filters; ++i) {
+            unsigned flags = 0, config = 0;
+            std::size_t parameters = 0;
+            std::vector<char> file_name(64 + 1, '\0');
+            const H5Z_filter_t id = H5Pget_filter2(dcpl, unsigned(i), &flags, &parameters, nullptr,
+                                                   file_name.size() - 1, file_name.data(), &config);
+            const char* builtin = builtin_filter_name(id);
+            if (builtin == nullptr)
+                throw Error(m_path, "dataset " + name + " needs filter " + std::to_string(id) + " (" + quoted(buffer_text(file_name)) +
+                                        "), which is not built into HDF5: plugins are never loaded for a material");
+            if (H5Zfilter_avail(id) <= 0)
+                throw Error(m_path, "dataset " + name + " needs filter " + std::to_string(id) + " (" + builtin +
+                                        "), which this HDF5 library is built without");
+        }
+        return layout;
+    }
+
+    // Checks, before reading, that the file stores exactly the bytes the dataset claims, so that
+    // nothing is filled in from a fill value (HDF5 1.10's fill and compact paths trust sizes the
+    // file gives) and that a compressed chunk cannot inflate far beyond its size (deflate's
+    // output grows until the stream ends: a small chunk can claim gigabytes).
+    void check_storage_size(hid_t dataset, hid_t dcpl, H5D_layout_t layout, const std::string& name,
+                            const std::vector<hsize_t>& dims, hsize_t raw_bytes, hsize_t value_bytes) const {
+        const std::string damaged = "dataset " + name + " ";
+        if (layout != H5D_CHUNKED) {
+            H5D_space_status_t status = H5D_SPACE_STATUS_ERROR;
+            if (H5Dget_space_status(dataset, &status) < 0 || status != H5D_SPACE_STATUS_ALLOCATED)
+                throw Error(m_path, damaged + "holds no stored values (never written, or file damaged)");
+            const hsize_t stored = H5Dget_storage_size(dataset);
+            if (stored != raw_bytes)
+                throw Error(m_path, damaged + "stores " + std::to_string(stored) + " bytes for " +
+                                        std::to_string(raw_bytes) + " bytes of values (file damaged)");
+            return;
+        }
+        const int rank = int(dims.size());
+        std::vector<hsize_t> chunk(dims.size(), 0);
+        if (rank == 0 || H5Pget_chunk(dcpl, rank, chunk.data()) != rank)
+            throw Error(m_path, damaged + "has unreadable chunk dimensions (file damaged)");
+        hsize_t chunk_values = 1;
+        for (hsize_t c : chunk) {
+            if (c == 0 || c > kMaxValues || chunk_values * c > kMaxValues)
+                throw Error(m_path, damaged + "has chunks of " + shape_text(chunk) + " values, more than a layer holds");
+            chunk_values *= c;
+        }
+        const hsize_t chunk_bytes = chunk_values * value_bytes;
+        const bool filtered = H5Pget_nfilters(dcpl) > 0;
+        // Deflate's worst expansion of incompressible data is well under this; fletcher32 adds 4.
+        const hsize_t most_stored = filtered ? chunk_bytes + chunk_bytes / 256 + 64 : chunk_bytes;
+        // Every chunk of the grid, row-major: at most kMaxValues of them, one index look-up each.
+        std::vector<hsize_t> offset(dims.size(), 0);
+        for (;;) {
+            hsize_t stored = 0;
+            if (H5Dget_chunk_storage_size(dataset, offset.data(), &stored) < 0 || stored == 0)
+                throw Error(m_path, damaged + "lacks a stored chunk (never written, or file damaged)");
+            if (stored > most_stored || (!filtered && stored != chunk_bytes))
+                throw Error(m_path, damaged + "stores " + std::to_string(stored) + " bytes for a chunk of " +
+                                        std::to_string(chunk_bytes) + " bytes of values (file damaged)");
+            int axis = rank - 1;
+            for (; axis >= 0; --axis) {
+                offset[axis] += chunk[axis];
+                if (offset[axis] < dims[axis]) break;
+                offset[axis] = 0;
+            }
+            if (axis < 0) return;
+        }
+    }
+
+    hid_t m_file;
+    std::string m_path;
+    Handle m_lapl, m_dapl;
+};
 
 bool all_finite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -195,6 +403,7 @@ void dense(const float* x, int inputs, const float* kernel, const float* bias, i
     }
 }
 
+
 }  // namespace
 
 // ---- Loading -----------------------------------------------------------------------------
@@ -210,9 +419,18 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::load(const std::string& path) {
 
     std::lock_guard<std::mutex> lock(hdf5_mutex());
     QuietHdf5Errors quiet;
+    // A filter HDF5 does not build in is looked for as a plugin, a shared library from
+    // HDF5_PLUGIN_PATH: code that a material file would choose. Off for the whole process (npf
+    // reads HDF5 nowhere else); datasets that need such a filter are refused by name below.
+    H5PLset_loading_state(0);
     if (H5Fis_hdf5(path.c_str()) <= 0) throw Error(path, "not an HDF5 file");
-    Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    // The POSIX driver, named rather than taken from the defaults, reads this one file.
+    Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    if (!access.valid() || H5Pset_fapl_sec2(access.get()) < 0)
+        throw Error(path, "cannot set up the HDF5 library to read the file");
+    Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), H5Fclose);
     if (!file.valid()) throw Error(path, "cannot read the HDF5 file (truncated or damaged)");
+    const OwnFileReader reader(file.get(), path);
 
     auto brdf = std::unique_ptr<NbrdfBrdf>(new NbrdfBrdf());
     int inputs = kInputs;
@@ -221,8 +439,8 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::load(const std::string& path) {
         const std::string kernel_name = dataset_path(k + 1, "kernel");
         const std::string bias_name = dataset_path(k + 1, "bias");
         std::vector<hsize_t> kernel_dims, bias_dims;
-        std::vector<float> kernel = read_float_dataset(file.get(), path, kernel_name, kernel_dims);
-        std::vector<float> bias = read_float_dataset(file.get(), path, bias_name, bias_dims);
+        std::vector<float> kernel = reader.read_floats(kernel_name, kernel_dims);
+        std::vector<float> bias = reader.read_floats(bias_name, bias_dims);
 
         const std::string wanted = std::to_string(inputs) + " x " +
                                    (last ? std::to_string(kOutputs) : std::string("n"));
@@ -259,11 +477,12 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::load(const std::string& path) {
     }
     // A deeper network would be evaluated wrongly, not approximately: refuse it.
     const std::string extra = "dense_" + std::to_string(kLayerCount + 1);
-    if (path_exists(file.get(), extra))
+    if (reader.exists(extra))
         throw Error(path, "has a layer " + extra + ": expected exactly 3 dense layers (6 -> n1 -> n2 -> 3)");
+    // The root's keras_version and backend attributes are not read: Keras writes them as
+    // variable-length strings, which HDF5 copies into a buffer of the length the file claims
+    // (a 4-byte edit made `npf info` take 4 GB and 16 s; a shorter claim overflows the buffer).
 
-    const std::string keras_version = root_string_attribute(file.get(), "keras_version");
-    const std::string backend = root_string_attribute(file.get(), "backend");
 
     const int n1 = brdf->m_layers[0].units, n2 = brdf->m_layers[1].units;
     const int weights = (kInputs + 1) * n1 + (n1 + 1) * n2 + (n2 + 1) * kOutputs;
@@ -283,8 +502,6 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::load(const std::string& path) {
         {"output", "f_r in 1/sr, R G B"},
         {"sampling", "cosine-weighted"},
     };
-    if (!keras_version.empty())
-        info.details.emplace_back("keras", keras_version + (backend.empty() ? "" : " (" + backend + ")"));
     return brdf;
 }
 

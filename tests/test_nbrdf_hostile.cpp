@@ -1,0 +1,453 @@
+// Hostile Neural BRDF files (issue 33): a material file is read from itself alone. Each file is
+// written here with the HDF5 C API from a small valid network, then made hostile one way:
+// external storage, external and soft links, virtual datasets, link loops, a filter from a
+// plugin, an inflating chunk, a variable-length attribute that claims gigabytes. Each test but
+// the last two (filters HDF5 builds in, a user block: still read) failed on the reader before
+// these checks: it read the other file, took the plugin's absence for damage, filled in values.
+#include <npf/converter/nbrdf_brdf.h>
+#include <npf/core/error.h>
+
+#include <error_of.h>
+#include <synthetic_rgl.h>
+
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <fcntl.h>
+#include <sys/ioctl.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using npf::NbrdfBrdf;
+using npf::Vec3;
+using npf::testing::error_of;
+
+// ---- Writing networks -------------------------------------------------------------------
+
+struct Weights {
+    std::vector<hsize_t> dims;
+    std::vector<float> values;
+};
+
+// Datasets by name, in the Keras layout: dense_k/dense_k/kernel:0 (inputs x units) and bias:0.
+using Network = std::map<std::string, Weights>;
+
+std::string weight_name(int layer, const char* which) {
+    const std::string group = "dense_" + std::to_string(layer);
+    return group + "/" + group + "/" + which + ":0";
+}
+
+// 6 -> 8 -> 8 -> 3 with seeded weights of the published networks' magnitude.
+Network small_network(unsigned seed) {
+    std::mt19937 rng(seed);
+    auto uniform = [&](float scale) { return scale * (float(rng() % 20001) / 10000.f - 1.f); };
+    Network net;
+    const int sizes[] = {6, 8, 8, 3};
+    for (int k = 0; k < 3; ++k) {
+        Weights kernel{{hsize_t(sizes[k]), hsize_t(sizes[k + 1])}, {}}, bias{{hsize_t(sizes[k + 1])}, {}};
+        kernel.values.resize(std::size_t(sizes[k]) * sizes[k + 1]);
+        for (float& w : kernel.values) w = uniform(k == 0 ? 1.f : 0.5f);
+        bias.values.resize(std::size_t(sizes[k + 1]));
+        for (float& b : bias.values) b = uniform(0.2f);
+        net[weight_name(k + 1, "kernel")] = kernel;
+        net[weight_name(k + 1, "bias")] = bias;
+    }
+    return net;
+}
+
+std::string folder() { return npf::testing::temporary_folder("nbrdf_hostile"); }
+
+// Writes float32 values as dataset `name` of `location`, created with `dcpl`.
+void write_floats(hid_t location, const std::string& name, const Weights& w, hid_t dcpl = H5P_DEFAULT) {
+    const hid_t space = H5Screate_simple(int(w.dims.size()), w.dims.data(), nullptr);
+    const hid_t dataset = H5Dcreate2(location, name.c_str(), H5T_IEEE_F32LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    ASSERT_GE(dataset, 0) << name;
+    EXPECT_GE(H5Dwrite(dataset, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, w.values.data()), 0) << name;
+    H5Dclose(dataset);
+    H5Sclose(space);
+}
+
+// How one dataset is written instead of plainly.
+using Writer = std::function<void(hid_t file, const std::string& name, const Weights& w)>;
+
+// Writes `net` to `path`: the groups, then each dataset, plainly unless `special` names it.
+std::string write_network(const std::string& path, const Network& net, const std::map<std::string, Writer>& special = {},
+                          hid_t fcpl = H5P_DEFAULT) {
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    EXPECT_GE(file, 0) << path;
+    for (int k = 1; k <= 3; ++k) {
+        const std::string group = "dense_" + std::to_string(k);
+        H5Gclose(H5Gcreate2(file, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        H5Gclose(H5Gcreate2(file, (group + "/" + group).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+    }
+    for (const auto& [name, weights] : net) {
+        const auto it = special.find(name);
+        if (it != special.end())
+            it->second(file, name, weights);
+        else
+            write_floats(file, name, weights);
+    }
+    H5Fclose(file);
+    return path;
+}
+
+// Opens `path` for writing and applies `edit` to it.
+void edit_file(const std::string& path, const std::function<void(hid_t)>& edit) {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0) << path;
+    edit(file);
+    H5Fclose(file);
+}
+
+std::vector<char> file_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::vector<char> float_bytes(const std::vector<float>& values) {
+    std::vector<char> bytes(values.size() * sizeof(float));
+    std::memcpy(bytes.data(), values.data(), bytes.size());
+    return bytes;
+}
+
+// Loads `path` expecting an npf::Error: one line, starting with the path, containing `words`,
+// and nothing printed by HDF5.
+void expect_refused(const std::string& path, const std::string& words) {
+    ::testing::internal::CaptureStderr();
+    const std::string message = error_of([&] { NbrdfBrdf::load(path); });
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+    EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    EXPECT_NE(message.find(words), std::string::npos) << "expected \"" << words << "\" in\n" << message;
+}
+
+npf::ChannelQuery rgb_query() {
+    npf::ChannelQuery q = npf::make_channel_query(npf::Channels::rgb(), npf::Channels::rgb(), "test");
+    q.clamp_negative = false;
+    return q;
+}
+
+Vec3 direction(double theta, double phi) {
+    return {float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)), float(std::cos(theta))};
+}
+
+// ---- External storage -------------------------------------------------------------------
+
+TEST(NbrdfHostile, ExternalStorageInAnotherFile) {
+    const std::string dir = folder(), elsewhere = dir + "/elsewhere.bin";
+    const Network net = small_network(1);
+    const std::string kernel = weight_name(1, "kernel");
+    const std::string path = write_network(dir + "/external.h5", net, {{kernel, [&](hid_t file, const std::string& name, const Weights& w) {
+        const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+        H5Pset_external(dcpl, elsewhere.c_str(), 0, hsize_t(w.values.size() * sizeof(float)));
+        write_floats(file, name, w, dcpl);  // the values go to elsewhere.bin
+        H5Pclose(dcpl);
+    }}});
+    ASSERT_EQ(file_bytes(elsewhere), float_bytes(net.at(kernel).values));
+    expect_refused(path, "dataset dense_1/dense_1/kernel:0 uses external storage (file " + elsewhere +
+                             "): a material is read from its own file alone");
+}
+
+// External storage on a FIFO made every command wait for a writer forever. Here a writer holds
+// the right bytes in the pipe (so that the old reader could not hang the test): the reader must
+// refuse the file without taking them.
+TEST(NbrdfHostile, ExternalStorageOnAFifoIsNeverOpened) {
+    const std::string dir = folder(), fifo = dir + "/pipe";
+    const Network net = small_network(2);
+    const std::string kernel = weight_name(2, "kernel");
+    const std::vector<char> bytes = float_bytes(net.at(kernel).values);
+    const std::string path = write_network(dir + "/fifo.h5", net, {{kernel, [&](hid_t file, const std::string& name, const Weights& w) {
+        const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+        H5Pset_external(dcpl, fifo.c_str(), 0, hsize_t(bytes.size()));
+        write_floats(file, name, w, dcpl);
+        H5Pclose(dcpl);
+    }}});
+    ASSERT_EQ(::unlink(fifo.c_str()), 0);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const int pipe = ::open(fifo.c_str(), O_RDWR | O_NONBLOCK);
+    ASSERT_GE(pipe, 0);
+    ASSERT_EQ(::write(pipe, bytes.data(), bytes.size()), ssize_t(bytes.size()));
+    expect_refused(path, "dataset dense_2/dense_2/kernel:0 uses external storage (file " + fifo + ")");
+    int waiting = 0;
+    EXPECT_EQ(::ioctl(pipe, FIONREAD, &waiting), 0);
+    EXPECT_EQ(waiting, int(bytes.size()));  // nothing taken
+    ::close(pipe);
+}
+
+// A relative external name points wherever the working directory makes it (the review's file
+// named ../../etc/hostname). Here it names a folder that does not exist, in case a version of
+// HDF5 wrote fill values on creation; the dataset is created without fill, allocated late.
+TEST(NbrdfHostile, ExternalStorageOutsideTheFolder) {
+    const std::string dir = folder();
+    const std::string path = write_network(dir + "/hostname.h5", small_network(3), {{weight_name(3, "bias"), [&](hid_t file, const std::string& name, const Weights& w) {
+        const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+        H5Pset_external(dcpl, "../../npf-no-such-folder/hostname", 0, hsize_t(w.values.size() * sizeof(float)));
+        H5Pset_fill_time(dcpl, H5D_FILL_TIME_NEVER);
+        H5Pset_alloc_time(dcpl, H5D_ALLOC_TIME_LATE);
+        const hid_t space = H5Screate_simple(int(w.dims.size()), w.dims.data(), nullptr);
+        H5Dclose(H5Dcreate2(file, name.c_str(), H5T_IEEE_F32LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT));
+        H5Sclose(space);
+        H5Pclose(dcpl);
+    }}});
+    expect_refused(path, "dataset dense_3/dense_3/bias:0 uses external storage (file ../../npf-no-such-folder/hostname): "
+                         "a material is read from its own file alone");
+}
+
+// ---- Links ------------------------------------------------------------------------------
+
+TEST(NbrdfHostile, ExternalLinkToAnotherMaterial) {
+    const std::string dir = folder();
+    const std::string other = write_network(dir + "/other.h5", small_network(5));
+    const std::string group = write_network(dir + "/group_link.h5", small_network(4));
+    edit_file(group, [&](hid_t file) {
+        ASSERT_GE(H5Ldelete(file, "dense_2", H5P_DEFAULT), 0);
+        ASSERT_GE(H5Lcreate_external(other.c_str(), "/dense_2", file, "dense_2", H5P_DEFAULT, H5P_DEFAULT), 0);
+    });
+    expect_refused(group, "dense_2 is an external link (to " + other + ":/dense_2): a material is read from its own file alone");
+
+    const std::string bias = write_network(dir + "/dataset_link.h5", small_network(4));
+    edit_file(bias, [&](hid_t file) {
+        const std::string name = weight_name(3, "bias");
+        ASSERT_GE(H5Ldelete(file, name.c_str(), H5P_DEFAULT), 0);
+        ASSERT_GE(H5Lcreate_external(other.c_str(), ("/" + name).c_str(), file, name.c_str(), H5P_DEFAULT, H5P_DEFAULT), 0);
+    });
+    expect_refused(bias, "dense_3/dense_3/bias:0 is an external link (to " + other + ":/dense_3/dense_3/bias:0)");
+}
+
+TEST(NbrdfHostile, SoftLink) {
+    const std::string path = write_network(folder() + "/soft.h5", small_network(6));
+    edit_file(path, [&](hid_t file) {
+        const std::string name = weight_name(2, "kernel");
+        ASSERT_GE(H5Lmove(file, name.c_str(), file, "stash", H5P_DEFAULT, H5P_DEFAULT), 0);
+        ASSERT_GE(H5Lcreate_soft("/stash", file, name.c_str(), H5P_DEFAULT, H5P_DEFAULT), 0);
+    });
+    expect_refused(path, "dense_2/dense_2/kernel:0 is a soft link (to /stash): a material is read through its own hard links alone");
+}
+
+// dense_1/dense_1 is the group dense_1 itself: the kernel is found through the loop.
+TEST(NbrdfHostile, LinkLoop) {
+    const std::string path = write_network(folder() + "/loop.h5", small_network(7));
+    edit_file(path, [&](hid_t file) {
+        for (const char* which : {"kernel", "bias"}) {
+            const std::string name = weight_name(1, which);
+            ASSERT_GE(H5Lmove(file, name.c_str(), file, (std::string("dense_1/") + which + ":0").c_str(), H5P_DEFAULT, H5P_DEFAULT), 0);
+        }
+        ASSERT_GE(H5Ldelete(file, "dense_1/dense_1", H5P_DEFAULT), 0);
+        ASSERT_GE(H5Lcreate_hard(file, "dense_1", file, "dense_1/dense_1", H5P_DEFAULT, H5P_DEFAULT), 0);
+    });
+    expect_refused(path, "dense_1 has 2 hard links to it (a link loop, or one object under several names)");
+}
+
+TEST(NbrdfHostile, OneDatasetUnderTwoNames) {
+    const std::string path = write_network(folder() + "/twice.h5", small_network(8));
+    edit_file(path, [&](hid_t file) {
+        ASSERT_GE(H5Lcreate_hard(file, weight_name(3, "bias").c_str(), file, "bias_again", H5P_DEFAULT, H5P_DEFAULT), 0);
+    });
+    expect_refused(path, "dense_3/dense_3/bias:0 has 2 hard links to it");
+}
+
+// ---- Virtual datasets -------------------------------------------------------------------
+
+TEST(NbrdfHostile, VirtualDataset) {
+    const std::string dir = folder(), source = dir + "/source.h5";
+    const Network net = small_network(9);
+    const std::string kernel = weight_name(1, "kernel");
+    {
+        const hid_t file = H5Fcreate(source.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+        write_floats(file, "data", net.at(kernel));
+        H5Fclose(file);
+    }
+    auto mapped_from = [&](const std::string& file_name, const std::string& dataset) -> Writer {
+        return [=](hid_t file, const std::string& name, const Weights& w) {
+            if (file_name == ".") write_floats(file, dataset, w);
+            const hid_t space = H5Screate_simple(int(w.dims.size()), w.dims.data(), nullptr);
+            const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+            ASSERT_GE(H5Pset_virtual(dcpl, space, file_name.c_str(), dataset.c_str(), space), 0);
+            H5Dclose(H5Dcreate2(file, name.c_str(), H5T_IEEE_F32LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT));
+            H5Pclose(dcpl);
+            H5Sclose(space);
+        };
+    };
+    const std::string other = write_network(dir + "/virtual.h5", net, {{kernel, mapped_from(source, "/data")}});
+    expect_refused(other, "dataset dense_1/dense_1/kernel:0 is a virtual dataset (mapped from " + source +
+                              ":/data): a material is read from its own file alone");
+    // Mapped from the same file: still an indirection HDF5 resolves by opening files by name.
+    const std::string same = write_network(dir + "/virtual_same.h5", net, {{kernel, mapped_from(".", "/stash")}});
+    expect_refused(same, "dataset dense_1/dense_1/kernel:0 is a virtual dataset (mapped from .:/stash)");
+}
+
+// ---- Filters ----------------------------------------------------------------------------
+
+constexpr H5Z_filter_t kTestFilter = 40000;
+
+size_t identity_filter(unsigned, size_t, const unsigned[], size_t nbytes, size_t*, void**) { return nbytes; }
+
+// A filter that is not built into HDF5 is looked for as a plugin, a shared library. The file
+// is written with the filter registered in this process, which then forgets it.
+TEST(NbrdfHostile, FilterFromAPlugin) {
+    const H5Z_class2_t filter = {H5Z_CLASS_T_VERS, kTestFilter, 1, 1, "npf test filter", nullptr, nullptr, identity_filter};
+    ASSERT_GE(H5Zregister(&filter), 0);
+    const std::string kernel = weight_name(1, "kernel");
+    const std::string path = write_network(folder() + "/plugin.h5", small_network(10), {{kernel, [](hid_t file, const std::string& name, const Weights& w) {
+        const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+        H5Pset_chunk(dcpl, int(w.dims.size()), w.dims.data());
+        H5Pset_filter(dcpl, kTestFilter, H5Z_FLAG_MANDATORY, 0, nullptr);
+        write_floats(file, name, w, dcpl);
+        H5Pclose(dcpl);
+    }}});
+    ASSERT_GE(H5Zunregister(kTestFilter), 0);
+    expect_refused(path, "dataset dense_1/dense_1/kernel:0 needs filter 40000 (npf test filter), which is not built "
+                         "into HDF5: plugins are never loaded for a material");
+    unsigned loading = ~0u;
+    ASSERT_GE(H5PLget_loading_state(&loading), 0);
+    EXPECT_EQ(loading, 0u) << "the reader leaves HDF5's plugin loading on";
+}
+
+// Chunked, shuffled, deflated and checksummed, as h5py can write: read as before, same values.
+TEST(NbrdfHostile, BuiltInFiltersStillRead) {
+    const std::string dir = folder();
+    const Network net = small_network(11);
+    const std::string plain = write_network(dir + "/plain.h5", net);
+    std::map<std::string, Writer> compressed;
+    for (const auto& entry : net)
+        compressed[entry.first] = [](hid_t file, const std::string& name, const Weights& w) {
+            const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+            std::vector<hsize_t> chunk = w.dims;
+            chunk[0] = std::max<hsize_t>(1, chunk[0] / 2);  // several chunks, the last partial
+            H5Pset_chunk(dcpl, int(chunk.size()), chunk.data());
+            H5Pset_shuffle(dcpl);
+            H5Pset_deflate(dcpl, 6);
+            H5Pset_fletcher32(dcpl);
+            write_floats(file, name, w, dcpl);
+            H5Pclose(dcpl);
+        };
+    const std::string filtered = write_network(dir + "/filtered.h5", net, compressed);
+    const auto a = NbrdfBrdf::load(plain), b = NbrdfBrdf::load(filtered);
+    for (double t : {0.1, 0.7, 1.3})
+        for (double p : {0.0, 2.0, 4.0}) {
+            float va[3], vb[3];
+            a->eval_cos(direction(0.4, 0.3), direction(t, p), rgb_query(), va);
+            b->eval_cos(direction(0.4, 0.3), direction(t, p), rgb_query(), vb);
+            EXPECT_EQ(std::memcmp(va, vb, sizeof va), 0);
+        }
+}
+
+// Deflate's output grows until its stream ends: a chunk of 256 bytes of values stored as a
+// stream of 16 MB of zeros. HDF5 itself compresses the zeros (the tests do not link zlib).
+TEST(NbrdfHostile, InflatingChunk) {
+    const std::string dir = folder(), scratch = dir + "/zeros.h5";
+    std::vector<char> stream;
+    {
+        const hid_t file = H5Fcreate(scratch.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+        const Weights zeros{{hsize_t(4) << 20}, std::vector<float>(std::size_t(4) << 20, 0.f)};
+        const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+        H5Pset_chunk(dcpl, 1, zeros.dims.data());
+        H5Pset_deflate(dcpl, 9);
+        write_floats(file, "zeros", zeros, dcpl);
+        H5Pclose(dcpl);
+        const hid_t dataset = H5Dopen2(file, "zeros", H5P_DEFAULT);
+        const hsize_t origin[1] = {0};
+        hsize_t stored = 0;
+        ASSERT_GE(H5Dget_chunk_storage_size(dataset, origin, &stored), 0);
+        stream.resize(stored);
+        std::uint32_t mask = 0;
+        ASSERT_GE(H5Dread_chunk(dataset, H5P_DEFAULT, origin, &mask, stream.data()), 0);
+        H5Dclose(dataset);
+        H5Fclose(file);
+    }
+    const std::string kernel = weight_name(2, "kernel");
+    const std::string path = write_network(dir + "/bomb.h5", small_network(12), {{kernel, [&](hid_t file, const std::string& name, const Weights& w) {
+        const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+        H5Pset_chunk(dcpl, int(w.dims.size()), w.dims.data());
+        H5Pset_deflate(dcpl, 9);
+        const hid_t space = H5Screate_simple(int(w.dims.size()), w.dims.data(), nullptr);
+        const hid_t dataset = H5Dcreate2(file, name.c_str(), H5T_IEEE_F32LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+        const hsize_t origin[2] = {0, 0};
+        EXPECT_GE(H5Dwrite_chunk(dataset, H5P_DEFAULT, 0, origin, stream.size(), stream.data()), 0);
+        H5Dclose(dataset);
+        H5Sclose(space);
+        H5Pclose(dcpl);
+    }}});
+    expect_refused(path, "dataset dense_2/dense_2/kernel:0 stores " + std::to_string(stream.size()) +
+                             " bytes for a chunk of 256 bytes of values (file damaged)");
+}
+
+// A dataset never written reads as its fill value, from a message whose size HDF5 1.10 trusts.
+TEST(NbrdfHostile, DatasetNeverWritten) {
+    const std::string path = write_network(folder() + "/unwritten.h5", small_network(13), {{weight_name(1, "bias"), [](hid_t file, const std::string& name, const Weights& w) {
+        const hid_t space = H5Screate_simple(int(w.dims.size()), w.dims.data(), nullptr);
+        H5Dclose(H5Dcreate2(file, name.c_str(), H5T_IEEE_F32LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+        H5Sclose(space);
+    }}});
+    expect_refused(path, "dataset dense_1/dense_1/bias:0 holds no stored values (never written, or file damaged)");
+}
+
+// ---- Attributes and the user block ------------------------------------------------------
+
+std::size_t peak_memory_kib() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return std::size_t(usage.ru_maxrss);
+}
+
+// Keras writes keras_version as a variable-length string: its length is a 4-byte count beside a
+// reference into the file's global heap, and HDF5 allocates (and fills) what the count claims.
+// Claiming 2^31 - 1 made the old reader take 4 GB and 16 s.
+TEST(NbrdfHostile, VariableLengthAttributeClaimingGigabytes) {
+    const std::string path = write_network(folder() + "/vlen.h5", small_network(14));
+    edit_file(path, [](hid_t file) {
+        const hid_t type = H5Tcopy(H5T_C_S1);
+        H5Tset_size(type, H5T_VARIABLE);
+        const hid_t space = H5Screate(H5S_SCALAR);
+        const hid_t attribute = H5Acreate2(file, "keras_version", type, space, H5P_DEFAULT, H5P_DEFAULT);
+        const char* version = "2.2.4";
+        ASSERT_GE(H5Awrite(attribute, type, &version), 0);
+        H5Aclose(attribute);
+        H5Sclose(space);
+        H5Tclose(type);
+    });
+    // The stored reference: length 5 (little-endian), then the heap collection's address.
+    std::vector<char> bytes = file_bytes(path);
+    const std::string heap = "GCOL";
+    const auto at = std::search(bytes.begin(), bytes.end(), heap.begin(), heap.end());
+    ASSERT_NE(at, bytes.end());
+    const std::uint64_t heap_address = std::uint64_t(at - bytes.begin());
+    char reference[12] = {5, 0, 0, 0};
+    std::memcpy(reference + 4, &heap_address, 8);
+    const auto ref = std::search(bytes.begin(), bytes.end(), reference, reference + 12);
+    ASSERT_NE(ref, bytes.end());
+    const std::uint32_t claimed = 0x7fffffff;
+    std::memcpy(&*ref, &claimed, 4);
+    std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
+
+    const std::size_t before = peak_memory_kib();
+    const auto brdf = NbrdfBrdf::load(path);
+    EXPECT_LT(peak_memory_kib() - before, std::size_t(1) << 20) << "loading raised the peak memory by over 1 GiB";
+}
+
+// A user block (bytes before the HDF5 superblock) is opaque to HDF5: harmless, still read.
+TEST(NbrdfHostile, UserBlockIsHarmless) {
+    const hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+    H5Pset_userblock(fcpl, 512);
+    const std::string path = write_network(folder() + "/user_block.h5", small_network(15), {}, fcpl);
+    H5Pclose(fcpl);
+    EXPECT_EQ(NbrdfBrdf::load(path)->hidden1_units(), 8);
+}
+
+}  // namespace
