@@ -9,6 +9,7 @@
 #include <npf/core/error.h>
 
 #include <error_of.h>
+#include <run_tool.h>
 #include <synthetic_rgl.h>
 
 #include <gtest/gtest.h>
@@ -449,6 +450,27 @@ TEST(NbrdfHostile, UserBlockIsHarmless) {
     const std::string path = write_network(folder() + "/user_block.h5", small_network(15), {}, fcpl);
     H5Pclose(fcpl);
     EXPECT_EQ(NbrdfBrdf::load(path)->hidden1_units(), 8);
+}
+
+// ---- Found by fuzzing (fuzz/corpus/nbrdf/) ----------------------------------------------
+
+std::string corpus_file(const char* name) { return std::string(NPF_SOURCE_DIR) + "/fuzz/corpus/nbrdf/" + name; }
+
+// A chunk whose index records 45 bytes for its 48 bytes of values (no filter): HDF5 1.10 read
+// the 48 from a buffer of the 45 (AddressSanitizer: heap-buffer-overflow in H5VM_memcpyvv,
+// under H5Dread). H5Dget_chunk_storage_size reports 48 for it: the index's record is checked.
+TEST(NbrdfHostile, ChunkRecordedSmallerThanItsValues) {
+    expect_refused(corpus_file("chunk_recorded_smaller.h5"),
+                   "dataset dense_1/dense_1/kernel:0 stores 45 bytes for a chunk of 48 bytes of values (file damaged)");
+}
+
+// The root group's heap address made absurd: HDF5's open fails half way and, at exit, could not
+// close what it left ("HDF5: infinite loop closing library" and a list, after npf's line).
+TEST(NbrdfHostile, DamagedFileGivesOneLineUpToExit) {
+    const npf::testing::ToolRun run = npf::testing::run_tool({"info", corpus_file("hdf5_cannot_close_at_exit.h5")});
+    EXPECT_EQ(run.status, 1) << npf::testing::describe(run);
+    EXPECT_EQ(npf::testing::lines_of(run.err).size(), 1u) << npf::testing::describe(run);
+    EXPECT_TRUE(npf::testing::contains(run.err, "cannot read the HDF5 file (truncated or damaged)")) << npf::testing::describe(run);
 }
 
 // ---- The value bound --------------------------------------------------------------------

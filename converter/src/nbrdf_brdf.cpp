@@ -132,13 +132,18 @@ const char* builtin_filter_name(H5Z_filter_t id) {
 // needs none) and objects linked more than once (a loop, or one dataset posing as two).
 class OwnFileReader {
 public:
-    OwnFileReader(hid_t file, const std::string& path)
+    OwnFileReader(hid_t file, const std::string& path, std::uint64_t file_bytes)
         : m_file(file), m_path(path), m_lapl(H5Pcreate(H5P_LINK_ACCESS), H5Pclose),
           m_dapl(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose) {
         if (!m_lapl.valid() || !m_dapl.valid() ||
             H5Pset_elink_cb(m_lapl.get(), refuse_external_link, nullptr) < 0 ||
             H5Pset_elink_cb(m_dapl.get(), refuse_external_link, nullptr) < 0)
             throw Error(m_path, "cannot set up the HDF5 library to read the file");
+        Handle fcpl(H5Fget_create_plist(m_file), H5Pclose);
+        hsize_t user_block = 0;
+        if (!fcpl.valid() || H5Pget_userblock(fcpl.get(), &user_block) < 0 || user_block > file_bytes)
+            throw Error(m_path, "cannot read the HDF5 file's superblock (truncated or damaged)");
+        m_data_bytes = file_bytes - user_block;
         unsigned links = 0;
         H5O_type_t type = H5O_TYPE_UNKNOWN;
         if (!object_links(m_file, ".", m_lapl.get(), links, type))
@@ -299,13 +304,19 @@ private:
         return layout;
     }
 
-    // Checks, before reading, that the file stores exactly the bytes the dataset claims, so that
-    // nothing is filled in from a fill value (HDF5 1.10's fill and compact paths trust sizes the
-    // file gives) and that a compressed chunk cannot inflate far beyond its size (deflate's
-    // output grows until the stream ends: a small chunk can claim gigabytes).
+    // Checks, before reading, that the file stores exactly the bytes the dataset claims, inside
+    // the file: nothing is filled in from a fill value, and no read relies on HDF5 1.10 to check
+    // a size (its fill, compact and chunk paths trust the sizes a file gives: a chunk recorded as
+    // 45 bytes was read as its 48 and overran the buffer). A compressed chunk may be no larger
+    // than its values (deflate's output grows until the stream ends: a small chunk could claim
+    // gigabytes).
     void check_storage_size(hid_t dataset, hid_t dcpl, H5D_layout_t layout, const std::string& name,
                             const std::vector<hsize_t>& dims, hsize_t raw_bytes, hsize_t value_bytes) const {
         const std::string damaged = "dataset " + name + " ";
+        const auto check_inside = [&](haddr_t address, hsize_t bytes) {
+            if (address == HADDR_UNDEF || address > m_data_bytes || bytes > m_data_bytes - address)
+                throw Error(m_path, damaged + "lies beyond the end of the file (truncated or damaged)");
+        };
         if (layout != H5D_CHUNKED) {
             H5D_space_status_t status = H5D_SPACE_STATUS_ERROR;
             if (H5Dget_space_status(dataset, &status) < 0 || status != H5D_SPACE_STATUS_ALLOCATED)
@@ -314,6 +325,7 @@ private:
             if (stored != raw_bytes)
                 throw Error(m_path, damaged + "stores " + std::to_string(stored) + " bytes for " +
                                         std::to_string(raw_bytes) + " bytes of values (file damaged)");
+            if (layout == H5D_CONTIGUOUS) check_inside(H5Dget_offset(dataset), stored);  // compact: in its header
             return;
         }
         const int rank = int(dims.size());
@@ -331,14 +343,20 @@ private:
         // Deflate's worst expansion of incompressible data is well under this; fletcher32 adds 4.
         const hsize_t most_stored = filtered ? chunk_bytes + chunk_bytes / 256 + 64 : chunk_bytes;
         // Every chunk of the grid, row-major: at most kMaxValues of them, one index look-up each.
+        // The size is the index's record (H5Dget_chunk_storage_size gives the nominal size of an
+        // unfiltered chunk, whatever the file records).
         std::vector<hsize_t> offset(dims.size(), 0);
         for (;;) {
+            unsigned skipped_filters = 0;
+            haddr_t address = HADDR_UNDEF;
             hsize_t stored = 0;
-            if (H5Dget_chunk_storage_size(dataset, offset.data(), &stored) < 0 || stored == 0)
+            if (H5Dget_chunk_info_by_coord(dataset, offset.data(), &skipped_filters, &address, &stored) < 0 ||
+                address == HADDR_UNDEF || stored == 0)
                 throw Error(m_path, damaged + "lacks a stored chunk (never written, or file damaged)");
             if (stored > most_stored || (!filtered && stored != chunk_bytes))
                 throw Error(m_path, damaged + "stores " + std::to_string(stored) + " bytes for a chunk of " +
                                         std::to_string(chunk_bytes) + " bytes of values (file damaged)");
+            check_inside(address, stored);
             int axis = rank - 1;
             for (; axis >= 0; --axis) {
                 offset[axis] += chunk[axis];
@@ -351,6 +369,7 @@ private:
 
     hid_t m_file;
     std::string m_path;
+    hsize_t m_data_bytes = 0;  // the file's bytes after its user block: HDF5's addresses start there
     Handle m_lapl, m_dapl;
 };
 
@@ -637,6 +656,12 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::load(const std::string& path) {
     if (file_size == 0) throw Error(path, "file is empty");
 
     std::lock_guard<std::mutex> lock(hdf5_mutex());
+    // HDF5 closes itself at exit; after some damaged files it cannot (an open that failed half
+    // way leaves objects behind) and prints "HDF5: infinite loop closing library" and a list
+    // to stderr, after npf's one line. Nothing is written through HDF5, so nothing needs that
+    // close. Only possible before HDF5's first call in the process (it fails quietly after).
+    static const bool no_close_at_exit = H5dont_atexit() >= 0;
+    (void)no_close_at_exit;
     QuietHdf5Errors quiet;
     // A filter HDF5 does not build in is looked for as a plugin, a shared library from
     // HDF5_PLUGIN_PATH: code that a material file would choose. Off for the whole process (npf
@@ -649,7 +674,7 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::load(const std::string& path) {
         throw Error(path, "cannot set up the HDF5 library to read the file");
     Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get()), H5Fclose);
     if (!file.valid()) throw Error(path, "cannot read the HDF5 file (truncated or damaged)");
-    const OwnFileReader reader(file.get(), path);
+    const OwnFileReader reader(file.get(), path, file_size);
 
     auto brdf = std::unique_ptr<NbrdfBrdf>(new NbrdfBrdf());
     int inputs = kInputs;
