@@ -155,12 +155,13 @@ TEST(NbrdfHostile, ExternalStorageInAnotherFile) {
     const std::string dir = folder(), elsewhere = dir + "/elsewhere.bin";
     const Network net = small_network(1);
     const std::string kernel = weight_name(1, "kernel");
-    const std::string path = write_network(dir + "/external.h5", net, {{kernel, [&](hid_t file, const std::string& name, const Weights& w) {
+    const Writer writer = [&](hid_t file, const std::string& name, const Weights& w) {
         const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
         H5Pset_external(dcpl, elsewhere.c_str(), 0, hsize_t(w.values.size() * sizeof(float)));
         write_floats(file, name, w, dcpl);  // the values go to elsewhere.bin
         H5Pclose(dcpl);
-    }}});
+    };
+    const std::string path = write_network(dir + "/external.h5", net, {{kernel, writer}});
     ASSERT_EQ(file_bytes(elsewhere), float_bytes(net.at(kernel).values));
     expect_refused(path, "dataset dense_1/dense_1/kernel:0 uses external storage (file " + elsewhere +
                              "): a material is read from its own file alone");
@@ -174,12 +175,13 @@ TEST(NbrdfHostile, ExternalStorageOnAFifoIsNeverOpened) {
     const Network net = small_network(2);
     const std::string kernel = weight_name(2, "kernel");
     const std::vector<char> bytes = float_bytes(net.at(kernel).values);
-    const std::string path = write_network(dir + "/fifo.h5", net, {{kernel, [&](hid_t file, const std::string& name, const Weights& w) {
+    const Writer writer = [&](hid_t file, const std::string& name, const Weights& w) {
         const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
         H5Pset_external(dcpl, fifo.c_str(), 0, hsize_t(bytes.size()));
         write_floats(file, name, w, dcpl);
         H5Pclose(dcpl);
-    }}});
+    };
+    const std::string path = write_network(dir + "/fifo.h5", net, {{kernel, writer}});
     ASSERT_EQ(::unlink(fifo.c_str()), 0);
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     const int pipe = ::open(fifo.c_str(), O_RDWR | O_NONBLOCK);
@@ -197,7 +199,7 @@ TEST(NbrdfHostile, ExternalStorageOnAFifoIsNeverOpened) {
 // HDF5 wrote fill values on creation; the dataset is created without fill, allocated late.
 TEST(NbrdfHostile, ExternalStorageOutsideTheFolder) {
     const std::string dir = folder();
-    const std::string path = write_network(dir + "/hostname.h5", small_network(3), {{weight_name(3, "bias"), [&](hid_t file, const std::string& name, const Weights& w) {
+    const Writer writer = [&](hid_t file, const std::string& name, const Weights& w) {
         const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
         H5Pset_external(dcpl, "../../npf-no-such-folder/hostname", 0, hsize_t(w.values.size() * sizeof(float)));
         H5Pset_fill_time(dcpl, H5D_FILL_TIME_NEVER);
@@ -206,7 +208,8 @@ TEST(NbrdfHostile, ExternalStorageOutsideTheFolder) {
         H5Dclose(H5Dcreate2(file, name.c_str(), H5T_IEEE_F32LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT));
         H5Sclose(space);
         H5Pclose(dcpl);
-    }}});
+    };
+    const std::string path = write_network(dir + "/hostname.h5", small_network(3), {{weight_name(3, "bias"), writer}});
     expect_refused(path, "dataset dense_3/dense_3/bias:0 uses external storage (file ../../npf-no-such-folder/hostname): "
                          "a material is read from its own file alone");
 }
@@ -239,7 +242,8 @@ TEST(NbrdfHostile, SoftLink) {
         ASSERT_GE(H5Lmove(file, name.c_str(), file, "stash", H5P_DEFAULT, H5P_DEFAULT), 0);
         ASSERT_GE(H5Lcreate_soft("/stash", file, name.c_str(), H5P_DEFAULT, H5P_DEFAULT), 0);
     });
-    expect_refused(path, "dense_2/dense_2/kernel:0 is a soft link (to /stash): a material is read through its own hard links alone");
+    expect_refused(path, "dense_2/dense_2/kernel:0 is a soft link (to /stash): a material is read through its own hard "
+                         "links alone");
 }
 
 // dense_1/dense_1 is the group dense_1 itself: the kernel is found through the loop.
@@ -248,7 +252,8 @@ TEST(NbrdfHostile, LinkLoop) {
     edit_file(path, [&](hid_t file) {
         for (const char* which : {"kernel", "bias"}) {
             const std::string name = weight_name(1, which);
-            ASSERT_GE(H5Lmove(file, name.c_str(), file, (std::string("dense_1/") + which + ":0").c_str(), H5P_DEFAULT, H5P_DEFAULT), 0);
+            const std::string moved = std::string("dense_1/") + which + ":0";
+            ASSERT_GE(H5Lmove(file, name.c_str(), file, moved.c_str(), H5P_DEFAULT, H5P_DEFAULT), 0);
         }
         ASSERT_GE(H5Ldelete(file, "dense_1/dense_1", H5P_DEFAULT), 0);
         ASSERT_GE(H5Lcreate_hard(file, "dense_1", file, "dense_1/dense_1", H5P_DEFAULT, H5P_DEFAULT), 0);
@@ -306,13 +311,14 @@ TEST(NbrdfHostile, FilterFromAPlugin) {
     const H5Z_class2_t filter = {H5Z_CLASS_T_VERS, kTestFilter, 1, 1, "npf test filter", nullptr, nullptr, identity_filter};
     ASSERT_GE(H5Zregister(&filter), 0);
     const std::string kernel = weight_name(1, "kernel");
-    const std::string path = write_network(folder() + "/plugin.h5", small_network(10), {{kernel, [](hid_t file, const std::string& name, const Weights& w) {
+    const Writer writer = [](hid_t file, const std::string& name, const Weights& w) {
         const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
         H5Pset_chunk(dcpl, int(w.dims.size()), w.dims.data());
         H5Pset_filter(dcpl, kTestFilter, H5Z_FLAG_MANDATORY, 0, nullptr);
         write_floats(file, name, w, dcpl);
         H5Pclose(dcpl);
-    }}});
+    };
+    const std::string path = write_network(folder() + "/plugin.h5", small_network(10), {{kernel, writer}});
     ASSERT_GE(H5Zunregister(kTestFilter), 0);
     expect_refused(path, "dataset dense_1/dense_1/kernel:0 needs filter 40000 (npf test filter), which is not built "
                          "into HDF5: plugins are never loaded for a material");
@@ -374,7 +380,7 @@ TEST(NbrdfHostile, InflatingChunk) {
         H5Fclose(file);
     }
     const std::string kernel = weight_name(2, "kernel");
-    const std::string path = write_network(dir + "/bomb.h5", small_network(12), {{kernel, [&](hid_t file, const std::string& name, const Weights& w) {
+    const Writer writer = [&](hid_t file, const std::string& name, const Weights& w) {
         const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
         H5Pset_chunk(dcpl, int(w.dims.size()), w.dims.data());
         H5Pset_deflate(dcpl, 9);
@@ -385,18 +391,20 @@ TEST(NbrdfHostile, InflatingChunk) {
         H5Dclose(dataset);
         H5Sclose(space);
         H5Pclose(dcpl);
-    }}});
+    };
+    const std::string path = write_network(dir + "/bomb.h5", small_network(12), {{kernel, writer}});
     expect_refused(path, "dataset dense_2/dense_2/kernel:0 stores " + std::to_string(stream.size()) +
                              " bytes for a chunk of 256 bytes of values (file damaged)");
 }
 
 // A dataset never written reads as its fill value, from a message whose size HDF5 1.10 trusts.
 TEST(NbrdfHostile, DatasetNeverWritten) {
-    const std::string path = write_network(folder() + "/unwritten.h5", small_network(13), {{weight_name(1, "bias"), [](hid_t file, const std::string& name, const Weights& w) {
+    const Writer writer = [](hid_t file, const std::string& name, const Weights& w) {
         const hid_t space = H5Screate_simple(int(w.dims.size()), w.dims.data(), nullptr);
         H5Dclose(H5Dcreate2(file, name.c_str(), H5T_IEEE_F32LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
         H5Sclose(space);
-    }}});
+    };
+    const std::string path = write_network(folder() + "/unwritten.h5", small_network(13), {{weight_name(1, "bias"), writer}});
     expect_refused(path, "dataset dense_1/dense_1/bias:0 holds no stored values (never written, or file damaged)");
 }
 
@@ -470,7 +478,8 @@ TEST(NbrdfHostile, DamagedFileGivesOneLineUpToExit) {
     const npf::testing::ToolRun run = npf::testing::run_tool({"info", corpus_file("hdf5_cannot_close_at_exit.h5")});
     EXPECT_EQ(run.status, 1) << npf::testing::describe(run);
     EXPECT_EQ(npf::testing::lines_of(run.err).size(), 1u) << npf::testing::describe(run);
-    EXPECT_TRUE(npf::testing::contains(run.err, "cannot read the HDF5 file (truncated or damaged)")) << npf::testing::describe(run);
+    EXPECT_TRUE(npf::testing::contains(run.err, "cannot read the HDF5 file (truncated or damaged)"))
+        << npf::testing::describe(run);
 }
 
 // ---- The value bound --------------------------------------------------------------------

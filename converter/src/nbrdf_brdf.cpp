@@ -295,7 +295,8 @@ private:
                                                    file_name.size() - 1, file_name.data(), &config);
             const char* builtin = builtin_filter_name(id);
             if (builtin == nullptr)
-                throw Error(m_path, "dataset " + name + " needs filter " + std::to_string(id) + " (" + quoted(buffer_text(file_name)) +
+                throw Error(m_path, "dataset " + name + " needs filter " + std::to_string(id) + " (" +
+                                        quoted(buffer_text(file_name)) +
                                         "), which is not built into HDF5: plugins are never loaded for a material");
             if (H5Zfilter_avail(id) <= 0)
                 throw Error(m_path, "dataset " + name + " needs filter " + std::to_string(id) + " (" + builtin +
@@ -566,7 +567,8 @@ double value_at_centre(const LayerView (&layers)[3], const AngleBox& box) {
                  phi_d = 0.5 * (box.lo[2] + box.hi[2]);
     double x[NbrdfBrdf::kMaxHiddenUnits], y[NbrdfBrdf::kMaxHiddenUnits];
     const double dx = std::sin(theta_d) * std::cos(phi_d), dz = std::cos(theta_d);
-    const double input[NbrdfBrdf::kInputs] = {std::sin(theta_h), 0, std::cos(theta_h), dx, std::sin(theta_d) * std::sin(phi_d), dz};
+    const double dy = std::sin(theta_d) * std::sin(phi_d);
+    const double input[NbrdfBrdf::kInputs] = {std::sin(theta_h), 0, std::cos(theta_h), dx, dy, dz};
     std::copy(input, input + NbrdfBrdf::kInputs, x);
     for (int k = 0; k < kLayerCount; ++k) {
         const LayerView& l = layers[k];
