@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
 # Small valid inputs for each fuzz target, made with the npf tool: RGL files (isotropic RGB,
 # anisotropic spectral), MERL files of small dimensions, NPF textures converted from them, and
-# batch configurations. usage: make_seeds.sh NPF SOURCE_DIR OUT_DIR
+# batch configurations; and the published Neural BRDF networks, when the shared data folder has
+# them (the committed fuzz/corpus/nbrdf/ holds small hand-made ones either way).
+# usage: make_seeds.sh NPF SOURCE_DIR OUT_DIR [SHARED_DATA_DIR]
 set -euo pipefail
-npf=$1 src=$2 out=$3
-mkdir -p "$out"/{rgl,merl,npf_exr,npf_parts,batch_config}
+npf=$1 src=$2 out=$3 shared=${4:-}
+mkdir -p "$out"/{rgl,merl,nbrdf,npf_exr,npf_parts,batch_config}
+if [[ -n "$shared" && -d "$shared/nbrdf" ]]; then
+    for network in "$shared"/nbrdf/*.h5; do install -m 0644 "$network" "$out/nbrdf/"; done
+fi
 small=(--theta 3 --ndf 8 --ndf-rows 4 --vndf 8 --data 4 --threads 1 --quiet)
 "$npf" synth -o "$out/rgl/plastic_rgb.bsdf" --recipe "$src/configs/materials/red_plastic.yaml" --wavelengths rgb "${small[@]}" > /dev/null
 "$npf" synth -o "$out/rgl/copper_aniso.bsdf" --recipe "$src/configs/materials/brushed_copper.yaml" --wavelengths 400:700:3 \

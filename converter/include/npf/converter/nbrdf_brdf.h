@@ -32,7 +32,13 @@ public:
     static constexpr int kOutputs = 3;
 
     // Throws npf::Error naming the file and the problem (missing, not HDF5, damaged, a missing
-    // dataset, shapes that do not chain 6 -> n1 -> n2 -> 3, non-finite weights).
+    // dataset, shapes that do not chain 6 -> n1 -> n2 -> 3, non-finite weights). A material is
+    // read from its own file alone: external storage, external, soft and user-defined links,
+    // virtual datasets, objects with several links and filters HDF5 would load from plugins are
+    // refused, and the root's attributes (Keras's version) are not read. info().value_bound is an
+    // upper bound of f_r cos(theta_i) cos(theta_o) over all pairs, by interval arithmetic through
+    // the network; a network above kMaxMaterialValue, or whose float evaluation could overflow,
+    // is refused.
     static std::unique_ptr<NbrdfBrdf> load(const std::string& path);
 
     // Format sniffing: the HDF5 signature at the start of the file.
