@@ -243,6 +243,17 @@ def issue_33_cases(c, good, raw):
            lambda: open(null_env, "wb").close(),
            ["render", small, "-o", p("e.exr"), "--env", null_env, "--size", "8", "--spp", "1", "--quiet"], 1, timeout=60,
            memory_gib=8)
+    # Neural BRDF files that would make npf read other files (fuzz/corpus/nbrdf/, made with HDF5).
+    corpus = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "fuzz", "corpus", "nbrdf")
+    for what, name in [("a Neural BRDF file whose kernel is stored in ../../etc/hostname (external storage)", "external_storage.h5"),
+                       ("a Neural BRDF file whose layer is an external link to another file", "external_link.h5"),
+                       ("a Neural BRDF file with a soft link", "soft_link.h5"),
+                       ("a Neural BRDF file with a link loop", "link_loop.h5"),
+                       ("a Neural BRDF file with a virtual dataset", "virtual_dataset.h5")]:
+        f = p(name)
+        c.case(what, "npf info " + name, lambda f=f, name=name: shutil.copy(os.path.join(corpus, name), f), ["info", f], 1,
+               timeout=30)
+
     # Colour configurations: refused, not crashed or hung on.
     scene = p("scene.exr")
     subprocess.run([c.npf, "render", small, "-o", scene, "--size", "8", "--spp", "1", "--quiet"], check=True)
