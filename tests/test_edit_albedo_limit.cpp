@@ -292,3 +292,25 @@ TEST(EditAlbedoLimit, CommandLineFlagWritesACappedFile) {
 }
 
 }  // namespace
+
+namespace {
+
+// The cap is checked with the albedo npf albedo measures, not taken on trust from the edit's own
+// quadrature: one far too coarse to see the lobe leaves views above the cap, and the edit fails
+// instead of writing a file that says it was capped (issue 33: it exited 0 at albedo 2.4e8).
+TEST(EditAlbedoLimit, ACapTheEditCannotMeetFails) {
+    const NpfModel in = material(0.02, 0.6);
+    AlbedoLimit coarse;
+    coarse.u_cells = coarse.phi_cells = 1;
+    coarse.passes = 1;
+    std::string e;
+    try {
+        npf::edit::limit_albedo(in, coarse);
+    } catch (const npf::Error& error) {
+        e = error.what();
+    }
+    EXPECT_NE(e.find("limit_albedo: the cap 1 is not met: the capped material's albedo still reaches"), std::string::npos) << e;
+    EXPECT_NO_THROW(npf::edit::limit_albedo(in, AlbedoLimit{}));
+}
+
+}  // namespace
