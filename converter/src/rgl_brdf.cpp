@@ -244,6 +244,14 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
     // no bound). f_r cos(theta_o) bounds the projected form, as cos(theta_i) <= 1.
     double data_max = 0.0;
     for (float v : stored) data_max = std::max(data_max, double(std::fabs(v)));
+    // Negative (out-of-gamut) values: renderers differ on them (the RGL loader and npf clamp them
+    // to 0, Mitsuba's `measured` keeps them), so a file that holds them says so.
+    std::size_t negative = 0;
+    double negative_sum = 0.0, positive_sum = 0.0, lowest = 0.0;
+    for (float v : stored) {
+        if (v < 0.f) ++negative, negative_sum -= double(v), lowest = std::min(lowest, double(v));
+        else positive_sum += double(v);
+    }
     const double bound = !b->m_jacobian ? data_max
                          : data_max == 0.0 || ndf_max == 0.f ? 0.0
                                                              : data_max * double(ndf_max) / (4.0 * double(sigma_min));
@@ -287,6 +295,15 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
     info.details.emplace_back("sigma grid", grid(sigma));
     info.details.emplace_back("vndf grid", grid(vndf));
     info.details.emplace_back("jacobian", jacobian_note);
+    {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "%zu of %zu stored values (%.3g %%), lowest %.4g, together %.3g %% of the positive values' sum; "
+                      "clamped to 0 when evaluated (npf eval --raw keeps them)",
+                      negative, stored.size(), 100.0 * double(negative) / double(std::max<std::size_t>(stored.size(), 1)), lowest,
+                      positive_sum > 0.0 ? 100.0 * negative_sum / positive_sum : 0.0);
+        info.details.emplace_back("negative values", negative == 0 ? std::string("none") : std::string(text));
+    }
     if (const TensorField* valid = file.find("valid")) {
         // One bit per data node, packed: another size is a mask of some other grid.
         const std::uint64_t nodes = std::uint64_t(nP) * nT * Hd * Wd;
