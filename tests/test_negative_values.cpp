@@ -1,6 +1,7 @@
 // Negative (out-of-gamut) RGB values in measured files (issue 34, item 4): renderers differ on
 // them (the RGL loader and npf clamp them to 0, Mitsuba's `measured` keeps them), so `npf info`
 // says how many a file holds and how much they weigh, and evaluation's policy is stated.
+#include "run_tool.h"
 #include "synthetic_rgl.h"
 
 #include <npf/converter/rgl_brdf.h>
@@ -47,6 +48,40 @@ TEST(NegativeValues, InfoCountsThemAndWeighsThem) {
     char share[32];
     std::snprintf(share, sizeof share, "together %.3g %%", 100.0 * 3.0 / positive);
     EXPECT_NE(d.find(share), std::string::npos) << d << " expected " << share;
+}
+
+// The policy: clamped by default (the RGL group's loader), kept with --raw (Mitsuba's measured):
+// the two renders differ exactly when the file holds negative values.
+TEST(NegativeValues, RenderClampsThemUnlessRaw) {
+    const std::string dir = npf::testing::temporary_folder("negative-render");
+    npf::testing::SyntheticRglSpec spec;
+    spec.theta_count = 3;
+    spec.data_size = 4;
+    std::vector<npf::testing::SyntheticField> fields = npf::testing::synthetic_rgl_fields(spec);
+    npf::testing::SyntheticField* rgb = npf::testing::find_field(fields, "rgb");
+    std::vector<float> v = rgb->floats();
+    for (float& x : v) x = std::fabs(x);
+    rgb->set_floats(v);
+    npf::testing::to_writer(fields).write(dir + "/clean.bsdf");
+    for (std::size_t i = 0; i < v.size(); i += 3) v[i] = -v[i];  // a third of the values below 0
+    rgb->set_floats(v);
+    npf::testing::to_writer(fields).write(dir + "/negative.bsdf");
+    const auto render = [&](const std::string& material, const std::string& out, bool raw) {
+        std::vector<std::string> args = {"render", dir + "/" + material, "-o", dir + "/" + out, "--size", "16", "--spp", "4", "--quiet"};
+        if (raw) args.push_back("--raw");
+        const npf::testing::ToolRun r = npf::testing::run_tool(args);
+        EXPECT_EQ(r.status, 0) << npf::testing::describe(r);
+    };
+    const auto psnr_line = [&](const std::string& a, const std::string& b) {
+        const npf::testing::ToolRun r = npf::testing::run_tool({"compare", dir + "/" + a, dir + "/" + b});
+        return npf::testing::lines_of(r.out).empty() ? std::string() : npf::testing::lines_of(r.out)[0];
+    };
+    render("negative.bsdf", "c.exr", false);
+    render("negative.bsdf", "k.exr", true);
+    render("clean.bsdf", "c2.exr", false);
+    render("clean.bsdf", "k2.exr", true);
+    EXPECT_NE(psnr_line("c.exr", "k.exr"), "PSNR inf");
+    EXPECT_EQ(psnr_line("c2.exr", "k2.exr"), "PSNR inf");
 }
 
 }  // namespace

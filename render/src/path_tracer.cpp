@@ -86,7 +86,8 @@ RenderResult render(const Brdf& material, const EnvironmentMap& environment, con
     validate_render_options(options);
 
     const RenderChannels rc = choose_render_channels(material.info(), options.channels);
-    const ChannelQuery query = material.query(rc.channels);  // once per render, never per sample
+    ChannelQuery query = material.query(rc.channels);  // once per render, never per sample
+    query.clamp_negative = !options.keep_negative;
     const std::size_t n = query.size();
 
     unsigned threads = unsigned(npf::thread_count(int(options.threads)));

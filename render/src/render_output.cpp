@@ -42,6 +42,7 @@ RenderMetadata describe_render(const RenderResult& result, const RenderOptions& 
     m.emplace_back("npf:sampling", options.sampling == Sampling::Mis    ? "mis (environment + BSDF, power heuristic)"
                                    : options.sampling == Sampling::Brdf ? "BSDF only"
                                                                         : "environment only");
+    if (options.keep_negative) m.emplace_back("npf:negative_values", "kept (as Mitsuba's measured renders them)");
     m.emplace_back("npf:threads", std::to_string(result.stats.threads));
     m.emplace_back("npf:render_seconds", six_digits(result.stats.seconds));
     m.emplace_back("npf:envmap", environment.source());

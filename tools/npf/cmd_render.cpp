@@ -41,6 +41,8 @@ const std::vector<FlagSpec> kFlags = {
     {"--wavelengths", true, "rgb, start:end:count or a,b,c nm (default: as the material stores)"},
     {"--sampling", true, "mis (default), brdf or env: both strategies with MIS, or one alone (to check convergence)"},
     {"--exposure", true, "stops applied to the PNG only (default 0; the EXR stays scene-linear)"},
+    {"--raw", false, "keep a measured file's negative (out-of-gamut) values, as Mitsuba's measured plugin does, instead of "
+                     "clamping them to 0 as the RGL loader does"},
     {"--quiet", false, "no progress bar"},
     {"--help", false, "show this help"},
 };
@@ -105,6 +107,7 @@ int run_render(const std::vector<std::string>& args) {
         else if (v == "env") options.sampling = render::Sampling::Environment;
         else throw Error("--sampling", "'" + v + "' is not mis, brdf or env");
     }
+    options.keep_negative = cl.has("--raw");
     const double exposure = cl.number("--exposure", 0.0);
     if (std::fabs(exposure) > 64.0) throw Error("--exposure", "must be within -64..64 stops");
 

@@ -55,6 +55,9 @@ struct RenderOptions {
     // render_channels.h). Channels::rgb() or a wavelength list to override.
     std::optional<Channels> channels;
     Sampling sampling = Sampling::Mis;
+    // Negative (out-of-gamut) values of a measured file: clamped to 0 (false, as the RGL group's
+    // loader and npf's readers evaluate) or kept as stored (true, as Mitsuba's `measured` renders).
+    bool keep_negative = false;
 };
 
 struct RenderStats {
