@@ -1,12 +1,15 @@
 // npf eval FILE: a scriptable probe. Reads direction pairs (wi, wo) and prints one line of
-// values per pair: f_r in 1/sr, or f_r cos(theta_o) with --cos.
+// values per pair: f_r in 1/sr, or f_r cos(theta_o) with --cos. With --against REF it compares two
+// materials at the pairs instead (npf/core/brdf_comparison.h) and prints the summary.
 #include "command_line.h"
 #include "commands.h"
 
 #include <npf/converter/open_material.h>
+#include <npf/core/brdf_comparison.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
 #include <npf/core/json_text.h>
+#include <npf/core/number_text.h>
 #include <npf/core/text_input.h>
 #include <npf/shading/npf_brdf.h>
 #include <npf/shading/npf_texture_file.h>
@@ -31,17 +34,24 @@ const std::vector<FlagSpec> kFlags = {
     {"--path", true, "NPF textures (.exr): 'memory' (tables in arrays, the default) or 'texture' (lookups through "
                      "OpenImageIO's TextureSystem); a comment line names the path used"},
     {"--json", false, "print one JSON object (channels, then a row per pair: values and pdf) instead of the text"},
+    {"--against", true, "compare FILE with this reference material at the pairs (default: npf convert's 500 held-out "
+                        "pairs) and print the relative RMS of f_r cos(theta_o) and the largest difference"},
+    {"--max-theta", true, "with --against: count only pairs with both directions within this angle (degrees, default 80)"},
     {"--help", false, "show this help"},
 };
 
 const char* kHelp =
     "usage: npf eval FILE [--dirs PATH|-] [--cos] [--wavelengths LIST] [--raw] [--pdf] [--path memory|texture]\n"
-    "                [--json]\n\n"
+    "                [--json]\n"
+    "       npf eval FILE --against REF [--dirs PATH|-] [--max-theta DEG] [--wavelengths LIST] [--raw] [--json]\n\n"
     "FILE is any material: RGL .bsdf, MERL .binary, NPF texture .exr, Neural BRDF .h5 or analytic recipe .yaml.\n"
     "Directions are in the local frame (z the normal, x the tangent), both pointing away from the\n"
     "surface, and are normalised on reading; lines starting with '#' and blank lines are skipped.\n"
     "Output: a header '# ' with the channel names (R G B) or wavelengths (nm), then one line per\n"
-    "pair. A pair with either direction at or below the horizon gives 0.\n\n";
+    "pair. A pair with either direction at or below the horizon gives 0.\n"
+    "--against: sqrt(sum (f - f_ref)^2 / sum f_ref^2) of f_r cos(theta_o) over the pairs with both\n"
+    "directions within --max-theta, every channel pooled, then per channel, within 60 degrees, and the\n"
+    "largest |f - f_ref| with its pair (docs/metrics.md, \"BRDF space\").\n\n";
 
 // Parses "x y z x y z"; returns false with a reason when the line is not six finite numbers.
 bool parse_pair(const std::string& line, double v[6], std::string& why) {
@@ -62,6 +72,116 @@ bool parse_pair(const std::string& line, double v[6], std::string& why) {
         return false;
     }
     return true;
+}
+
+// The next pair of the file, normalised; false at its end. Comment and blank lines are skipped.
+bool next_pair(LineReader& reader, Vec3& wi, Vec3& wo) {
+    std::string line;
+    while (reader.next(line)) {
+        const std::string where = reader.name() + ":" + std::to_string(reader.line_number());
+        const auto first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#') continue;
+        double v[6];
+        std::string why;
+        if (!parse_pair(line, v, why)) throw Error(where, why);
+        // parse_pair let only finite numbers through
+        if (!unit_direction(v[0], v[1], v[2], wi) || !unit_direction(v[3], v[4], v[5], wo)) {
+            throw Error(where, "a direction of zero length");
+        }
+        return true;
+    }
+    return false;
+}
+
+std::string degrees_text(const Vec3& w) {
+    char buf[64];
+    const double theta = std::acos(std::min(1.0, std::max(-1.0, double(w.z)))) * 180.0 / kPiD;
+    const double phi = std::atan2(double(w.y), double(w.x)) * 180.0 / kPiD;
+    std::snprintf(buf, sizeof buf, "theta %.1f phi %.1f", theta, phi);
+    return buf;
+}
+
+// npf eval FILE --against REF: the comparison's summary, as text or one JSON object.
+int run_comparison(const CommandLine& cl, const std::string& path, const Brdf& test) {
+    const std::string ref_path = cl.value("--against");
+    if (ref_path.empty()) throw Error("--against", "needs a material file");
+    const std::unique_ptr<Brdf> reference = open_material(ref_path);
+    Channels channels = reference->info().channels;
+    if (cl.has("--wavelengths")) {
+        if (channels.is_rgb()) throw Error(ref_path, "holds RGB data; --wavelengths needs spectral materials");
+        channels = Channels::spectral(parse_wavelength_list(cl.value("--wavelengths"), "--wavelengths"));
+    }
+    if (test.info().channels.is_rgb() != channels.is_rgb()) {
+        throw Error(path, std::string("holds ") + (channels.is_rgb() ? "spectral" : "RGB") + " data and " + ref_path +
+                              " does not: compare materials of one kind");
+    }
+    const double max_theta = cl.has("--max-theta") ? parse_finite_number(cl.value("--max-theta"), "--max-theta") : 80.0;
+    if (!(max_theta > 0.0 && max_theta <= 90.0)) throw Error("--max-theta", "must lie in (0, 90] degrees");
+
+    ChannelQuery tq = test.query(channels), rq = reference->query(channels);
+    tq.clamp_negative = rq.clamp_negative = !cl.has("--raw");
+    std::vector<float> t(tq.size()), r(rq.size());
+    BrdfComparison comparison(tq.size(), max_theta);
+    const auto add = [&](const Vec3& wi, const Vec3& wo) {
+        test.eval_cos(wi, wo, tq, t.data());
+        reference->eval_cos(wi, wo, rq, r.data());
+        comparison.add(wi, wo, t.data(), r.data());
+    };
+    std::string pairs_text;
+    if (cl.has("--dirs")) {
+        const std::string dirs = cl.value("--dirs");
+        std::unique_ptr<LineReader> reader = dirs == "-" ? std::make_unique<LineReader>(0, "<stdin>", kStreamTextBounds)
+                                                         : std::make_unique<LineReader>(dirs, "a direction file", kStreamTextBounds);
+        Vec3 wi, wo;
+        while (next_pair(*reader, wi, wo)) add(wi, wo);
+        pairs_text = reader->name();
+    } else {
+        for (const DirectionPair& p : held_out_pairs()) add(p.wi, p.wo);
+        pairs_text = "held out (100 mirror, 100 near mirror, 300 cosine-weighted)";
+    }
+    const BrdfComparisonResult c = comparison.result();
+    if (c.used == 0) {
+        char degrees[32];
+        std::snprintf(degrees, sizeof degrees, "%g", max_theta);
+        throw Error(cl.has("--dirs") ? cl.value("--dirs") : "--against",
+                    "no pair has both directions within " + std::string(degrees) + " degrees: nothing to compare");
+    }
+    const BrdfComparisonResult::Worst& w = c.worst;
+    if (cl.has("--json")) {
+        std::string out = "{\"material\": " + json_string(path) + ", \"against\": " + json_string(ref_path) +
+                          ", \"quantity\": \"f_r cos\", \"pairs\": " + std::to_string(c.pairs) + ", \"used\": " +
+                          std::to_string(c.used) + ", \"max_theta\": " + json_number(max_theta) +
+                          ",\n \"relative_rms\": " + json_number(c.relative_rms) + ", \"relative_rms_60\": " +
+                          json_number(c.relative_rms_60) + ",\n \"channels\": [";
+        for (std::size_t k = 0; k < channels.size(); ++k) {
+            out += (k ? ", " : "") + std::string("{\"channel\": ") +
+                   (channels.is_rgb() ? json_string(channels.name(k)) : json_number(double(channels.wavelengths()[k]), 7)) +
+                   ", \"relative_rms\": " + json_number(c.channel_relative_rms[k]) + "}";
+        }
+        out += "],\n \"largest_difference\": {\"pair\": " + std::to_string(w.pair + 1) + ", \"channel\": " +
+               json_string(channels.name(w.channel)) + ", \"value\": " + json_number(w.test) + ", \"reference\": " +
+               json_number(w.reference) + ", \"wi\": [" + json_number(w.wi.x) + ", " + json_number(w.wi.y) + ", " +
+               json_number(w.wi.z) + "], \"wo\": [" + json_number(w.wo.x) + ", " + json_number(w.wo.y) + ", " +
+               json_number(w.wo.z) + "]}}\n";
+        std::fwrite(out.data(), 1, out.size(), stdout);
+        return 0;
+    }
+    std::printf("%s against %s, f_r cos(theta_o)%s\n", path.c_str(), ref_path.c_str(),
+                cl.has("--raw") ? " (negative values kept)" : "");
+    std::printf("  pairs             %zu (%s), %zu with both directions within %g deg\n", c.pairs, pairs_text.c_str(),
+                c.used, max_theta);
+    std::printf("  relative RMS      %.4f", c.relative_rms);
+    if (channels.size() <= 8) {
+        std::printf(" (");
+        for (std::size_t k = 0; k < channels.size(); ++k) {
+            std::printf("%s%s %.4f", k ? ", " : "", channels.name(k).c_str(), c.channel_relative_rms[k]);
+        }
+        std::printf(")");
+    }
+    std::printf("\n  within 60 deg     %.4f\n", c.relative_rms_60);
+    std::printf("  largest diff.     %.6g against %.6g (%s) at pair %zu: wi %s, wo %s\n", w.test, w.reference,
+                channels.name(w.channel).c_str(), w.pair + 1, degrees_text(w.wi).c_str(), degrees_text(w.wo).c_str());
+    return 0;
 }
 
 }  // namespace
@@ -93,6 +213,9 @@ int run_eval(const std::vector<std::string>& args) {
         brdf = open_material(path);
     }
 
+    if (cl.has("--against")) return run_comparison(cl, path, *brdf);
+    if (cl.has("--max-theta")) throw Error("--max-theta", "applies with --against only");
+
     Channels channels = brdf->info().channels;
     if (cl.has("--wavelengths")) {
         if (channels.is_rgb()) throw Error(path, "holds RGB data; --wavelengths needs a spectral file");
@@ -108,7 +231,6 @@ int run_eval(const std::vector<std::string>& args) {
     const std::string dirs = cl.value("--dirs", "-");
     std::unique_ptr<LineReader> reader = dirs == "-" ? std::make_unique<LineReader>(0, "<stdin>", kStreamTextBounds)
                                                      : std::make_unique<LineReader>(dirs, "a direction file", kStreamTextBounds);
-    const std::string dirs_name = reader->name();
 
     // --json: the same content as the text, the header as keys and a row object per pair.
     const bool json = cl.has("--json");
@@ -126,19 +248,9 @@ int run_eval(const std::vector<std::string>& args) {
     }
     bool first_row = true;
     std::vector<float> values(query.size());
-    std::string line;
     char buf[64];
-    while (reader->next(line)) {
-        const std::size_t line_no = reader->line_number();
-        auto first = line.find_first_not_of(" \t\r");
-        if (first == std::string::npos || line[first] == '#') continue;
-        double v[6];
-        std::string why;
-        if (!parse_pair(line, v, why)) throw Error(dirs_name + ":" + std::to_string(line_no), why);
-        Vec3 wi, wo;  // parse_pair let only finite numbers through
-        if (!unit_direction(v[0], v[1], v[2], wi) || !unit_direction(v[3], v[4], v[5], wo)) {
-            throw Error(dirs_name + ":" + std::to_string(line_no), "a direction of zero length");
-        }
+    Vec3 wi, wo;
+    while (next_pair(*reader, wi, wo)) {
         brdf->eval_cos(wi, wo, query, values.data());
         if (json) out += first_row ? "\n  {\"values\": [" : ",\n  {\"values\": [";
         first_row = false;
