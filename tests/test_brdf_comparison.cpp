@@ -134,3 +134,28 @@ TEST(EvalAgainst, RefusesWhatItCannotCompare) {
 }
 
 }  // namespace
+
+namespace {
+
+// npf convert stores the held-out comparison; npf eval --against on the written file agrees.
+TEST(EvalAgainst, ConvertStoresWhatEvalAgainstMeasures) {
+    const std::string dir = npf::testing::temporary_folder("convert-held-out");
+    npf::testing::write_synthetic_rgl({}, dir + "/a.bsdf");
+    const npf::testing::ToolRun conv = npf::testing::run_tool(
+        {"convert", dir + "/a.bsdf", "-o", dir + "/a.exr", "--preset", "preview", "--no-predict", "--error-pairs", "500"});
+    ASSERT_EQ(conv.status, 0) << npf::testing::describe(conv);
+    EXPECT_NE(conv.out.find("held out    relative RMS of f_r cos"), std::string::npos) << conv.out;
+    const npf::testing::ToolRun info = npf::testing::run_tool({"info", dir + "/a.exr"});
+    const std::size_t at = info.out.find("error_held_out_rel_rms: ");
+    ASSERT_NE(at, std::string::npos) << info.out;
+    const double stored = std::stod(info.out.substr(at + 24));
+    const npf::testing::ToolRun eval = npf::testing::run_tool({"eval", dir + "/a.exr", "--against", dir + "/a.bsdf", "--json"});
+    ASSERT_EQ(eval.status, 0) << npf::testing::describe(eval);
+    const std::size_t r = eval.out.find("\"relative_rms\": ");
+    ASSERT_NE(r, std::string::npos) << eval.out;
+    const double measured = std::stod(eval.out.substr(r + 16));
+    EXPECT_GT(stored, 0.0);
+    EXPECT_NEAR(stored, measured, 1e-4 * measured) << info.out << eval.out;
+}
+
+}  // namespace

@@ -378,6 +378,7 @@ ConvertReport convert_material_stages(const Brdf& source, const std::string& out
             }
         }
     }
+    if (settings.error_pairs > 0) report.held_out = compare_brdfs(NpfBrdf(model), source, model.channels, held_out_pairs());
     // Energy: a fit can gain light where the data are thin (grazing views beyond the measured
     // range).
     {
@@ -425,6 +426,13 @@ ConvertReport convert_material_stages(const Brdf& source, const std::string& out
         m.emplace_back("error_fitted_rel_rms_max", six_digits(report.fitted_error.max_relative_rms));
         m.emplace_back("error_rel_rms_mean", six_digits(report.compressed_error.mean_relative_rms));
         m.emplace_back("error_rel_rms_max", six_digits(report.compressed_error.max_relative_rms));
+        const BrdfComparisonResult::Worst& w = report.held_out.worst;
+        m.emplace_back("error_held_out_rel_rms", six_digits(report.held_out.relative_rms));
+        m.emplace_back("error_held_out_rel_rms_60", six_digits(report.held_out.relative_rms_60));
+        m.emplace_back("error_held_out_largest", six_digits(w.test) + " against " + six_digits(w.reference) + " (" +
+                                                     report.channels.name(w.channel) + ") at pair " +
+                                                     std::to_string(w.pair + 1) + " of " +
+                                                     std::to_string(report.held_out.pairs));
     }
     m.emplace_back("horizon_closed", settings.close_horizon ? std::to_string(report.horizon_columns_closed) + " columns" : "no");
     if (report.detail_not_kept) {

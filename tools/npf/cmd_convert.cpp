@@ -99,6 +99,14 @@ int run_convert(const std::vector<std::string>& args) {
                     100.0 * r.compressed_error.mean_relative_rms, 100.0 * r.compressed_error.max_relative_rms,
                     100.0 * r.fitted_error.mean_relative_rms, 100.0 * r.fitted_error.max_relative_rms);
     }
+    if (s.error_pairs > 0) {
+        const BrdfComparisonResult& h = r.held_out;
+        const auto angle = [](const Vec3& w) { return std::acos(std::min(1.0, std::max(-1.0, double(w.z)))) * 180.0 / kPiD; };
+        std::printf("  held out    relative RMS of f_r cos %.4f at %zu pairs (%.4f within 60 deg); largest difference %.4g\n"
+                    "              against %.4g (%s) at %.0f deg in, %.0f deg out (npf eval --against)\n",
+                    h.relative_rms, h.used, h.relative_rms_60, h.worst.test, h.worst.reference,
+                    r.channels.name(h.worst.channel).c_str(), angle(h.worst.wi), angle(h.worst.wo));
+    }
     if (s.close_horizon) {
         std::printf("  horizon     G closed at the horizon in %d of %d columns (no light gained at grazing views)\n",
                     r.horizon_columns_closed, r.isotropic ? 1 : o.g_phi);

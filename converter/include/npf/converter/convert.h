@@ -9,6 +9,7 @@
 #include <npf/converter/fit/spectral_compression.h>
 #include <npf/converter/psnr_prediction.h>
 #include <npf/core/brdf.h>
+#include <npf/core/brdf_comparison.h>
 
 #include <cstdint>
 #include <functional>
@@ -102,6 +103,9 @@ struct ConvertReport {
     BrdfSpaceError fitted_error;      // the fitted factors before compression
     BrdfSpaceError compressed_error;  // the compressed factors, before any detail layer
     BrdfSpaceError detailed_error;    // what the file holds, with its detail layer (when it has one)
+    // What the file holds against the source at the fixed held-out pairs (npf/core/brdf_comparison.h):
+    // relative RMS of f_r cos(theta_o), pooled, and the largest difference (a peak too high or low).
+    BrdfComparisonResult held_out;
     int horizon_columns_closed = 0;
     bool has_detail = false;
     bool detail_not_kept = false;  // fitted, but it did not lower the BRDF-space error
