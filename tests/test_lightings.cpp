@@ -279,6 +279,27 @@ TEST(LightingsCli, RenderUnderEachLighting) {
     EXPECT_EQ(both.status, 1) << describe(both);
 }
 
+// A batch: the light key sets the prediction's set, render.env takes a lighting's name.
+TEST(LightingsCli, BatchTakesLightingNames) {
+    const std::string dir = npf::testing::temporary_folder("lightings-batch");
+    npf::testing::write_text(dir + "/batch.yaml", "output_dir: out\ninputs: [" + lobe_path() +
+                                                      "]\ndefaults:\n  preset: preview\n  error_pairs: 0\n  threads: 2\n"
+                                                      "  light: [key-rim, directional]\n"
+                                                      "  render: {size: 16, spp: 2, threads: 2, env: key-rim}\n");
+    const ToolRun r = npf::testing::run_tool({"batch", dir + "/batch.yaml"});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_EQ(attribute(dir + "/out/renders/lobe.npf.exr", "npf:lighting"), "key-rim");
+    EXPECT_EQ(attribute(dir + "/out/renders/lobe.npf.exr", "npf:envmap"), "key-rim");
+    const npf::NpfModel m = npf::read_npf_texture(dir + "/out/lobe.exr");
+    bool key_rim = false, studio = false;
+    for (const auto& [k, v] : m.metadata) {
+        key_rim = key_rim || k == "predicted_psnr_key-rim";
+        studio = studio || k == "predicted_psnr_studio";
+    }
+    EXPECT_TRUE(key_rim);
+    EXPECT_FALSE(studio);
+}
+
 // ---- --light decides what a target picks ---------------------------------------------------------
 
 npf::ConvertSettings small_settings() {
