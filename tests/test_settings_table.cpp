@@ -199,6 +199,7 @@ std::vector<Candidate> candidates(const ConvertSettingRow& row) {
         {"detail", {{"none", true}, {"32,12,32", true}, {"32,0,32", false}, {"32,12", false}}},
         {"target_psnr", {{"40", true}, {"0", false}, {"x", false}}},
         {"target_grids", {{"16x8x16,32x12x32", true}, {"32x12x32,16x8x16", false}, {"16x8", false}}},
+        {"light", {{"studio", true}, {"key-rim,directional", true}, {"spotlight", false}, {"studio,studio", false}}},
     };
     std::vector<Candidate> out;
     switch (row.kind) {

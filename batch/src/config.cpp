@@ -10,6 +10,7 @@
 
 #include <npf/converter/convert_settings_table.h>
 #include <npf/converter/yaml_context.h>
+#include <npf/render/lighting.h>
 
 #include <yaml-cpp/yaml.h>
 
@@ -137,7 +138,11 @@ struct Reader : YamlContext {
                     const std::string rk = r.first.Scalar(), name = "render." + rk;
                     const std::string ro = where(r.first);
                     if (rk == "env") {
-                        out[name] = {path(r.second, full + "." + rk), ro};
+                        // A built-in lighting's name (render/lighting.h) as it is; else a map's path.
+                        const std::vector<std::string>& names = render::builtin_lighting_names();
+                        const bool named = r.second.IsScalar() &&
+                                           std::find(names.begin(), names.end(), r.second.Scalar()) != names.end();
+                        out[name] = {named ? r.second.Scalar() : path(r.second, full + "." + rk), ro};
                     } else {
                         const std::string value = scalar(r.second, full + "." + rk);
                         check_value(ro, full + "." + rk, name, value);

@@ -18,6 +18,7 @@
 #include <npf/render/default_environment.h>
 #include <npf/render/environment_map.h>
 #include <npf/render/image_metrics.h>
+#include <npf/render/lighting.h>
 #include <npf/render/path_tracer.h>
 #include <npf/render/render_output.h>
 #include <npf/shading/npf_texture_file.h>
@@ -227,10 +228,24 @@ std::string hash_text(const MaterialJob& job, bool source_isotropic, const std::
     return sha256_hex(t);
 }
 
+// The lighting of the validation renders: a map file, or a built-in name (render/lighting.h;
+// "studio" is the shipped map's file).
+std::string render_lighting_of(const RenderCheck& check) {
+    return check.env.empty() || check.env == "studio" ? render::default_environment_map_path() : check.env;
+}
+
+bool procedural_lighting(const std::string& lighting) {
+    const std::vector<std::string>& names = render::builtin_lighting_names();
+    return std::find(names.begin(), names.end(), lighting) != names.end();
+}
+
 std::string render_hash_of(const std::string& material_hash, const RenderCheck& check) {
-    const std::string env = check.env.empty() ? render::default_environment_map_path() : check.env;
+    const std::string env = render_lighting_of(check);
+    // A procedural lighting has no file: its name stands for it (its geometry is this build's,
+    // and the material hash names the build).
+    const std::string light = procedural_lighting(env) ? "lighting " + env : sha256_file(env);
     return sha256_hex(material_hash + "\nrender size=" + std::to_string(check.size) + " spp=" + std::to_string(check.spp) +
-                      " seed=" + std::to_string(check.seed) + " sampling=env floor=paired\nenv " + sha256_file(env) + "\n");
+                      " seed=" + std::to_string(check.seed) + " sampling=env floor=paired\nenv " + light + "\n");
 }
 
 // How a material is processed: in this process, or in a worker whose finished files the parent
@@ -243,7 +258,7 @@ struct MaterialContext {
     int shard = 0;
     bool in_worker = false;
     std::uint64_t memory_limit = 0;  // the worker's, for messages
-    std::map<std::string, render::EnvironmentMap> environments;
+    std::map<std::string, render::Lighting> environments;
     std::vector<std::pair<std::string, std::string>> moves;  // worker: (staged name, final), in order
 
     std::string staged(const std::string& name) const { return stage->through(name); }
@@ -341,9 +356,9 @@ bool renders_up_to_date(const MaterialJob& job, const std::optional<std::map<std
 // Publishes both renders, stamped with `render_hash`, and fills the result's metrics.
 void render_and_compare(const MaterialJob& job, const Brdf& source, const std::string& output, const RenderCheck& check,
                         const std::string& render_hash, MaterialContext& ctx, MaterialResult& r) {
-    const std::string env_path = check.env.empty() ? render::default_environment_map_path() : check.env;
+    const std::string env_path = render_lighting_of(check);
     auto it = ctx.environments.find(env_path);
-    if (it == ctx.environments.end()) it = ctx.environments.emplace(env_path, render::EnvironmentMap::load(env_path)).first;
+    if (it == ctx.environments.end()) it = ctx.environments.emplace(env_path, render::make_lighting(env_path, "render.env")).first;
     render::RenderOptions ro;
     ro.width = ro.height = check.size;
     ro.spp = check.spp;

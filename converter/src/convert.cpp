@@ -233,6 +233,8 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
         if (paper) {
             o.acceleration = AwlsOptions::Acceleration::LineSearch;
             o.g_pin = 0.0;
+            // Judged as it was measured, under the studio map alone: its files stay as they were.
+            s.prediction.lightings = {"studio"};
         }
         // The accuracy ladder (docs/fitting.md, "Detail layer"): the same base, a finer residual.
         if (!paper) {
@@ -473,6 +475,13 @@ ConvertReport convert_material_stages(const Brdf& source, const std::string& out
         m.emplace_back("predicted_psnr", six_digits(report.prediction.psnr));
         if (report.prediction.floor_psnr != 0.0) m.emplace_back("predicted_psnr_floor", six_digits(report.prediction.floor_psnr));
         m.emplace_back("predicted_psnr_render", report.prediction_settings);
+        // A set: each lighting's figures too (predicted_psnr is the worst of them).
+        if (report.prediction.lightings.size() > 1) {
+            for (const LightingPrediction& l : report.prediction.lightings) {
+                m.emplace_back("predicted_psnr_" + l.lighting, six_digits(l.psnr));
+                if (l.floor_psnr != 0.0) m.emplace_back("predicted_psnr_" + l.lighting + "_floor", six_digits(l.floor_psnr));
+            }
+        }
     }
     if (target) {
         std::string tried;

@@ -166,6 +166,10 @@ nb::dict convert(const std::string& input, const std::string& output,
     if (r.predicted) {
         d["predicted_psnr_db"] = r.prediction.psnr;
         d["predicted_floor_db"] = r.prediction.floor_psnr;
+        // Each lighting of the set (predicted_psnr_db is their worst): {name: (psnr, floor)}.
+        nb::dict each;
+        for (const LightingPrediction& l : r.prediction.lightings) each[l.lighting.c_str()] = nb::make_tuple(l.psnr, l.floor_psnr);
+        d["predicted_psnr_by_lighting"] = each;
     }
     d["seconds"] = r.seconds;
     d["peak_memory_gib"] = r.peak_memory_gib;

@@ -227,3 +227,15 @@ def test_edit_writes_what_npf_edit_writes(ilm_exr, tmp_path):
     dry = npf.edit(ilm_exr, dry_run=True, sharpen=1.5)
     assert dry["output"] == "" and len(dry["steps"]) == 1
     assert "sharpen" in npf.edit_flags() and "preset" in npf.convert_settings()
+
+
+def test_convert_judges_the_lightings_asked_for(tmp_path):
+    # light= replaces the prediction's set; the report gives each lighting (PSNR, floor) and the worst.
+    report = npf.convert(SHIPPED, tmp_path / "lit.exr", preset="preview", error_pairs=0, detail="none",
+                         light=["studio", "directional"])
+    each = report["predicted_psnr_by_lighting"]
+    assert list(each) == ["studio", "directional"]
+    assert report["predicted_psnr_db"] == min(psnr for psnr, _ in each.values())
+    assert each["directional"][1] == float("inf")  # no Monte Carlo, no noise floor
+    with pytest.raises(npf.Error, match="spotlight"):
+        npf.convert(SHIPPED, tmp_path / "x.exr", preset="preview", light="spotlight")

@@ -7,6 +7,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <memory>
@@ -50,6 +51,34 @@ RenderMetadata describe_render(const RenderResult& result, const RenderOptions& 
     m.emplace_back("npf:envmap_clamped_values", std::to_string(environment.clamped_values()));
     if (result.stats.dropped_values > 0)
         m.emplace_back("npf:dropped_values", std::to_string(result.stats.dropped_values));
+    return m;
+}
+
+RenderMetadata describe_render(const RenderResult& result, const RenderOptions& options, const Lighting& lighting) {
+    if (!lighting.directional()) {
+        RenderMetadata m = describe_render(result, options, *lighting.map);
+        m.emplace_back("npf:lighting", lighting.label());
+        return m;
+    }
+    RenderOptions centres = options;
+    centres.spp = 1;
+    RenderMetadata m = describe_render(result, centres, EnvironmentMap::constant(0.f, 0.f, 0.f));
+    // No map: its lines give way to the lights.
+    m.erase(std::remove_if(m.begin(), m.end(), [](const auto& line) { return line.first.rfind("npf:envmap", 0) == 0; }),
+            m.end());
+    for (auto& [key, value] : m) {
+        if (key == "npf:sampling")
+            value = "none: directional lights evaluated at each pixel's centre (no Monte Carlo; two materials' renders differ "
+                    "only by their BRDFs, with no noise floor)";
+        if (key == "npf:seed") value = "unused";
+    }
+    std::string lights;
+    for (const DirectionalLight& l : lighting.lights) {
+        lights += (lights.empty() ? "" : "; ") + l.name + ": direction (" + six_digits(l.direction.x) + ", " +
+                  six_digits(l.direction.y) + ", " + six_digits(l.direction.z) + "), irradiance " + six_digits(l.irradiance);
+    }
+    m.emplace_back("npf:lighting", lighting.label());
+    m.emplace_back("npf:lights", lights);
     return m;
 }
 

@@ -15,9 +15,11 @@
 #include <npf/core/error.h>
 #include <npf/render/default_environment.h>
 #include <npf/render/environment_map.h>
+#include <npf/render/lighting.h>
 #include <npf/render/path_tracer.h>
 #include <npf/render/render_output.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -31,7 +33,9 @@ namespace {
 
 const std::vector<FlagSpec> kFlags = {
     {"-o", true, "output OpenEXR (float RGBA, scene-linear Rec.709, premultiplied alpha), required"},
-    {"--env", true, "lat-long HDR environment map (default: the shipped studio.exr)"},
+    {"--light", true, "studio (default: the shipped map), key-rim (a sky with a key and a grazing rim disc), directional (the "
+                      "key and rim as delta lights, no Monte Carlo) or a lat-long map file (docs/render.md)"},
+    {"--env", true, "lat-long HDR environment map (or a --light name)"},
     {"--png", true, "also write a display-encoded 8-bit PNG through OpenColorIO"},
     {"--size", true, "image size in pixels: N (square) or WxH (default 256)"},
     {"--spp", true, "samples per pixel (default 64)"},
@@ -70,12 +74,13 @@ std::string describe_channels(const Channels& c) {
 int run_render(const std::vector<std::string>& args) {
     CommandLine cl("render", args, kFlags);
     if (cl.has("--help")) {
-        std::printf("usage: npf render MATERIAL -o OUT.exr [--env MAP.exr] [--png OUT.png] [--size N|WxH] [--spp N]\n"
+        std::printf("usage: npf render MATERIAL -o OUT.exr [--light studio|key-rim|directional|MAP.exr] [--png OUT.png]\n"
+                    "                  [--size N|WxH] [--spp N]\n"
                     "                  [--seed S] [--scene sphere] [--threads N] [--wavelengths LIST] [--exposure E]\n"
                     "                  [--sampling mis|brdf|env] [--quiet]\n\n"
                     "Renders the paper's Sphere scene: a unit sphere with a tangent field around its vertical axis,\n"
-                    "lit by a lat-long environment map, with multiple importance sampling of the material and the\n"
-                    "map. MATERIAL is an RGL .bsdf, MERL .binary, NPF texture .exr or analytic recipe .yaml. RGB\n"
+                    "lit by a lat-long environment map (a named lighting or a file), with multiple importance sampling\n"
+                    "of the material and the map, or by directional lights without Monte Carlo. MATERIAL is an RGL .bsdf, MERL .binary, NPF texture .exr or analytic recipe .yaml. RGB\n"
                     "materials render in RGB, spectral ones at a fixed wavelength quadrature, integrated to CIE XYZ\n"
                     "and written as linear Rec.709. The image depends only on the material, the map, the options\n"
                     "and the seed (not on --threads); the same seed gives different materials the same random\n"
@@ -115,7 +120,13 @@ int run_render(const std::vector<std::string>& args) {
     // input or the other output.
     FileUses uses;
     uses.input(material_path, "the material");
-    if (cl.has("--env")) uses.input(cl.value("--env"), "--env");
+    if (cl.has("--env") && cl.has("--light")) throw Error("--light", "give --light or --env, not both");
+    const std::string light_flag = cl.has("--env") ? "--env" : "--light";
+    const std::string light = cl.value(light_flag, "studio");
+    if (light.empty()) throw Error(light_flag, "needs a lighting name or a map file");
+    const std::vector<std::string>& names = render::builtin_lighting_names();
+    const bool named = std::find(names.begin(), names.end(), light) != names.end();
+    if (!named) uses.input(light, light_flag);
     uses.output(output, "-o");
     if (!png.empty()) uses.output(png, "--png");
     uses.check();
@@ -123,19 +134,17 @@ int run_render(const std::vector<std::string>& args) {
     if (!png.empty()) check_output_path(png);
 
     const std::unique_ptr<Brdf> material = open_material(material_path);
-    const std::string env_path = cl.has("--env") ? cl.value("--env") : render::default_environment_map_path();
-    if (env_path.empty()) throw Error("--env", "needs a file name");
-    const render::EnvironmentMap environment = render::EnvironmentMap::load(env_path);
+    const render::Lighting lighting = render::make_lighting(light, light_flag);
     // The display transform before rendering: a missing or broken OCIO config fails fast.
     std::optional<color::DisplayTransform> display;
     if (!png.empty()) display.emplace(color::DisplayOptions{});
 
     ProgressBar bar("render " + output, !cl.has("--quiet"));
     const render::RenderResult result =
-        render::render(*material, environment, options, [&bar](double f) { bar.update(f); });
+        render::render(*material, lighting, options, [&bar](double f) { bar.update(f); });
     bar.finish();
 
-    render::RenderMetadata meta = render::describe_render(result, options, environment);
+    render::RenderMetadata meta = render::describe_render(result, options, lighting);
     meta.insert(meta.begin(), {"npf:material", material_path});
     if (!material->info().description.empty()) meta.emplace_back("npf:material_description", material->info().description);
     // All or nothing: both files are written in full before either is published, so that a
@@ -155,9 +164,12 @@ int run_render(const std::vector<std::string>& args) {
     commit_together({&exr_out, png_out ? &*png_out : nullptr});
 
     const render::RenderStats& s = result.stats;
-    std::printf("wrote %s%s%s: %zux%zu, %u spp, %s, %.2f s, %.2f M samples/s on %u thread%s\n", output.c_str(),
-                png.empty() ? "" : " and ", png.c_str(), options.width, options.height, options.spp,
-                describe_channels(result.channels).c_str(), s.seconds,
+    // Directional lights: one ray per pixel centre, so no sample count and no noise to speak of.
+    const std::string samples = lighting.directional() ? "pixel centres (no Monte Carlo, no noise floor)"
+                                                       : std::to_string(options.spp) + " spp";
+    std::printf("wrote %s%s%s: %zux%zu, %s, %s, under %s, %.2f s, %.2f M samples/s on %u thread%s\n", output.c_str(),
+                png.empty() ? "" : " and ", png.c_str(), options.width, options.height, samples.c_str(),
+                describe_channels(result.channels).c_str(), lighting.label().c_str(), s.seconds,
                 s.seconds > 0.0 ? double(s.camera_samples) / s.seconds / 1e6 : 0.0, s.threads, s.threads == 1 ? "" : "s");
     return 0;
 }

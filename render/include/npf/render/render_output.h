@@ -3,6 +3,7 @@
 #pragma once
 
 #include <npf/core/atomic_file.h>
+#include <npf/render/lighting.h>
 #include <npf/render/path_tracer.h>
 
 #include <string>
@@ -22,6 +23,10 @@ using RenderMetadata = std::vector<std::pair<std::string, std::string>>;
 // Callers add the material and anything else.
 RenderMetadata describe_render(const RenderResult& result, const RenderOptions& options,
                                const EnvironmentMap& environment);
+// The same under any lighting, with npf:lighting (its label): a map's lines as above; directional
+// lights' npf:lights (each light's direction and irradiance) and npf:sampling saying that there
+// was no Monte Carlo (npf:spp 1: one ray through each pixel's centre).
+RenderMetadata describe_render(const RenderResult& result, const RenderOptions& options, const Lighting& lighting);
 
 // Writes result.image (premultiplied linear Rec.709 RGBA, 32-bit float, ZIP compression, the
 // Rec.709 chromaticities, DateTime) with `metadata` as string attributes. Throws npf::Error
