@@ -105,6 +105,39 @@ TEST(SpectralCompression, KnownRankIsFoundAndRecovered) {
     EXPECT_GT(max_relative_error(npf::compress_factors(f, o).D, f.D, C), 1e-3);
 }
 
+// Per channel: every channel's own table keeps the ratio, at the smallest rank that does; a dim
+// channel whose shape differs from the bright ones' (a colour shift) is not dropped.
+TEST(SpectralCompression, PerChannelRuleHoldsForEveryChannel) {
+    const std::size_t cells = 64, C = 6;
+    std::vector<float> tables(C * cells);
+    for (std::size_t c = 0; c < C; ++c) {
+        for (std::size_t i = 0; i < cells; ++i) {
+            const double x = double(i) / cells;
+            const double narrow = std::exp(-40.0 * x * x), wide = std::exp(-2.0 * x);
+            // Five bright channels share the narrow lobe; the last, dim, is mostly the wide one.
+            tables[c * cells + i] = float(c + 1 < C ? 10.0 * narrow + 0.1 * wide : 0.2 * narrow + wide);
+        }
+    }
+    const npf::SpectralBasis total = npf::compress_tables(tables, C, cells, 0.99, 0, false);
+    const npf::SpectralBasis each = npf::compress_tables(tables, C, cells, 0.99, 0, true);
+    EXPECT_EQ(total.rank, 1);  // the bright channels rule the total
+    EXPECT_EQ(each.rank, 2);
+    for (const npf::SpectralBasis* b : {&total, &each}) {
+        double worst = 1.0;
+        for (std::size_t c = 0; c < C; ++c) {
+            double err = 0.0, norm = 0.0;
+            for (std::size_t i = 0; i < cells; ++i) {
+                const double want = tables[c * cells + i];
+                err += (b->at(c, i) - want) * (b->at(c, i) - want);
+                norm += want * want;
+            }
+            worst = std::min(worst, 1.0 - err / norm);
+        }
+        if (b == &each) EXPECT_GE(worst, 0.99 - 1e-6);
+        else EXPECT_LT(worst, 0.99);
+    }
+}
+
 TEST(SpectralCompression, RanksGrowWithTheRatioAndReachIt) {
     const NpfFactors f = make_test_factors({true, 20, true, 5});
     int previous = 0;
@@ -112,6 +145,7 @@ TEST(SpectralCompression, RanksGrowWithTheRatioAndReachIt) {
         SCOPED_TRACE(ratio);
         CompressionOptions o;
         o.d_ratio = o.g_ratio = ratio;
+        o.per_channel = false;  // the paper's rule: the total (per channel: the next test)
         const NpfModel m = npf::compress_factors(f, o);
         EXPECT_GE(m.D.rank, previous);
         previous = m.D.rank;

@@ -233,6 +233,7 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
         if (paper) {
             o.acceleration = AwlsOptions::Acceleration::LineSearch;
             o.g_pin = 0.0;
+            s.compression.per_channel = false;  // the paper's rule: the total ratio
             // Judged as it was measured, under the studio map alone: its files stay as they were.
             s.prediction.lightings = {"studio"};
         }
@@ -436,6 +437,7 @@ ConvertReport convert_material_stages(const Brdf& source, const std::string& out
                                                      std::to_string(w.pair + 1) + " of " +
                                                      std::to_string(report.held_out.pairs));
     }
+    m.emplace_back("compression_rule", settings.compression.per_channel ? "per-channel" : "total");
     m.emplace_back("horizon_closed", settings.close_horizon ? std::to_string(report.horizon_columns_closed) + " columns" : "no");
     if (report.detail_not_kept) {
         m.emplace_back("detail_not_kept", "BRDF-space relative RMS " + six_digits(report.detailed_error.mean_relative_rms) +
@@ -449,6 +451,8 @@ ConvertReport convert_material_stages(const Brdf& source, const std::string& out
         m.emplace_back("detail_samples_per_cell", std::to_string(d.samples_per_cell));
         m.emplace_back("detail_display_power", six_digits(d.display_power));
         m.emplace_back("detail_energy_weight", six_digits(d.energy_weight));
+        m.emplace_back("detail_measure", d.measure == DetailOptions::Measure::SolidAngle ? "solid-angle" : "half-angle");
+        m.emplace_back("detail_clamp_passes", std::to_string(d.clamp_passes));
         m.emplace_back("detail_rank", std::to_string(model.detail.rank));
         m.emplace_back("detail_weighted_error_before", six_digits(report.detail.weighted_error_before));
         m.emplace_back("detail_weighted_error_after", six_digits(report.detail.weighted_error_after));

@@ -189,6 +189,13 @@ ConvertSettingsTable make_table() {
     r.read = [](const ConvertSettings& s) { return g17(s.compression.d_ratio) + "," + g17(s.compression.g_ratio); };
     t.push_back(r);
 
+    r = choice("pca_rule", {"per-channel", "total"},
+               "per-channel (default; the paper preset: total): the --pca ratio holds for every channel's table, so a "
+               "colour that shifts with angle keeps its component, or total (the paper's rule: for all channels together)");
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.compression.per_channel = v.text == "per-channel"; };
+    r.read = [](const ConvertSettings& s) { return std::string(s.compression.per_channel ? "per-channel" : "total"); };
+    t.push_back(r);
+
     r = hashed(whole("rank", {{1, 100000}, {1, 100000}}, "fixed SVD ranks D,G (overrides --pca)"), 13);
     r.takes_list = true;
     r.apply = [](ConvertSettings& s, const SettingValue& v) {
@@ -325,9 +332,26 @@ ConvertSettingsTable make_table() {
     t.push_back(r);
 
     r = number("detail_weight", 1, 1, {{0, 4}}, "must lie in [0, 4]",
-               "power p of the detail fit's display weight (f + eps)^-p (default 1.17; 0: plain least squares)");
+               "power p of the detail fit's display weight (f + eps)^-p (default 0.4; 0: plain least squares)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.display_power = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.detail.display_power); };
+    t.push_back(r);
+
+    r = choice("detail_measure", {"half-angle", "solid-angle"},
+               "half-angle (default: every half-vector angle counts alike, so a narrow peak keeps its height) or "
+               "solid-angle (Rusinkiewicz's cell measure: a peak narrower than a degree weighs almost nothing)");
+    r.apply = [](ConvertSettings& s, const SettingValue& v) {
+        s.detail.measure = v.text == "solid-angle" ? DetailOptions::Measure::SolidAngle : DetailOptions::Measure::HalfAngle;
+    };
+    r.read = [](const ConvertSettings& s) {
+        return std::string(s.detail.measure == DetailOptions::Measure::SolidAngle ? "solid-angle" : "half-angle");
+    };
+    t.push_back(r);
+
+    r = whole("detail_clamp_passes", {{0, 16}},
+              "refits of the detail layer's energy targets to the clamped model max(0, NPF + r) (default 8; 0: none)");
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.clamp_passes = int(v.numbers[0]); };
+    r.read = [](const ConvertSettings& s) { return std::to_string(s.detail.clamp_passes); };
     t.push_back(r);
 
     r = number("detail_views", 1, 0, {}, "", "view angles (degrees) at which the detail fit holds the source's albedo");

@@ -197,8 +197,38 @@ void check_detail_options(const DetailOptions& o) {
     if (!(o.smoothness >= 0.0) || !std::isfinite(o.smoothness)) throw Error(kWhat, "smoothness must be >= 0");
     if (!(o.ratio > 0.0 && o.ratio <= 1.0)) throw Error(kWhat, "ratio must lie in (0, 1]");
     if (o.rank < 0) throw Error(kWhat, "rank must be 0 (by ratio) or positive");
+    if (o.clamp_passes < 0 || o.clamp_passes > 16) throw Error(kWhat, "clamp passes must be 0..16");
     for (double v : o.energy_views_deg) {
         if (!(v >= 0.0 && v < 90.0)) throw Error(kWhat, "energy views must lie in [0, 90) degrees");
+    }
+}
+
+// The fit's albedo quadrature at view wi: fn(wo, q) for each wo = reflect(wi, h), h on a
+// square-root grid in theta_h (dense at the peak), q = 4 (wi . h) d(omega_h) cos(theta_o), so
+// that albedo(wi) = sum q f_r(wi, wo).
+template <class Fn>
+void for_each_albedo_sample(const Vec3d& wi, Fn&& fn) {
+    constexpr int kU = 128, kPhi = 128;
+    static const std::array<std::array<double, 2>, kPhi> azimuths = [] {
+        std::array<std::array<double, 2>, kPhi> a{};
+        for (int b = 0; b < kPhi; ++b) {
+            const double phi = kTwoPiD * (b + 0.5) / kPhi;
+            a[std::size_t(b)] = {std::cos(phi), std::sin(phi)};
+        }
+        return a;
+    }();
+    if (!(wi.z > 1e-6)) return;
+    for (int a = 0; a < kU; ++a) {
+        const double u = (a + 0.5) / kU, theta_h = equation::theta_h_of_u(u);
+        const double dtheta = kPiD * u / kU, sh = std::sin(theta_h), ch = std::cos(theta_h);
+        for (int b = 0; b < kPhi; ++b) {
+            const Vec3d h{sh * azimuths[std::size_t(b)][0], sh * azimuths[std::size_t(b)][1], ch};
+            const double cos_ih = wi.x * h.x + wi.y * h.y + wi.z * h.z;
+            if (!(cos_ih > 0.0)) continue;
+            const Vec3d wo{2.0 * cos_ih * h.x - wi.x, 2.0 * cos_ih * h.y - wi.y, 2.0 * cos_ih * h.z - wi.z};
+            if (!(wo.z > 1e-6)) continue;
+            fn(wo, 4.0 * cos_ih * sh * dtheta * (kTwoPiD / kPhi) * wo.z);
+        }
     }
 }
 
@@ -272,7 +302,8 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
                         const Vec3 fi = to_float(wi), fo = to_float(wo);
                         source.eval_cos(fi, fo, query, raw.data());
                         model.eval_all(fi, fo, base.data());
-                        const double measure = 4.0 * std::sin(hd.theta_h) * std::sin(hd.theta_d) *
+                        const double along_h = o.measure == DetailOptions::Measure::SolidAngle ? std::sin(hd.theta_h) : 1.0;
+                        const double measure = 4.0 * along_h * std::sin(hd.theta_d) *
                                                std::cos(hd.theta_d) * ah.measure[a] * ad.measure[std::size_t(b)] *
                                                ap.measure[std::size_t(c)] * (kTwoPiD / se) * wi.z * wo.z;
                         double mean = 0.0;
@@ -431,36 +462,24 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
     std::vector<std::vector<double>>& rows = sys.rows;
     std::vector<double>& albedo_source = sys.albedo_source;
     std::vector<double>& albedo_base = sys.albedo_base;
+    sys.view_wi.clear();
+    for (std::size_t v = 0; v < V; ++v) {
+        const double st = std::sin(views[v]), ct = std::cos(views[v]);
+        sys.view_wi.push_back(Vec3d{st * std::cos(view_azimuths[v]), st * std::sin(view_azimuths[v]), ct});
+    }
     {
-        constexpr int kU = 128, kPhi = 128;
-        std::array<double, kPhi> cos_phi, sin_phi;  // once, not once per ring and view
-        for (int b = 0; b < kPhi; ++b) {
-            const double phi = kTwoPiD * (b + 0.5) / kPhi;
-            cos_phi[b] = std::cos(phi);
-            sin_phi[b] = std::sin(phi);
-        }
         npf::parallel_slices(V, std::size_t(threads), [&](std::size_t, std::size_t begin, std::size_t end) {
             std::vector<float> raw(C);
             std::vector<double> base(C);
             for (std::size_t v = begin; v < end; ++v) {
-                const double st = std::sin(views[v]), ct = std::cos(views[v]);
-                const Vec3d wi{st * std::cos(view_azimuths[v]), st * std::sin(view_azimuths[v]), ct};
-                for (int a = 0; a < kU; ++a) {
-                    const double u = (a + 0.5) / kU, theta_h = equation::theta_h_of_u(u);
-                    const double dtheta = kPiD * u / kU, sh_ = std::sin(theta_h), ch_ = std::cos(theta_h);
-                    for (int b = 0; b < kPhi; ++b) {
-                        const Vec3d h{sh_ * cos_phi[b], sh_ * sin_phi[b], ch_};
-                        const double cos_ih = wi.x * h.x + wi.y * h.y + wi.z * h.z;
-                        if (!(cos_ih > 0.0)) continue;
-                        const Vec3d wo{2.0 * cos_ih * h.x - wi.x, 2.0 * cos_ih * h.y - wi.y, 2.0 * cos_ih * h.z - wi.z};
-                        if (!(wo.z > 1e-6) || !(wi.z > 1e-6)) continue;
-                        const double q = 4.0 * cos_ih * sh_ * dtheta * (kTwoPiD / kPhi) * wo.z;
+                const Vec3d wi = sys.view_wi[v];
+                for_each_albedo_sample(wi, [&](const Vec3d& wo, double q) {
                         const Vec3 fi = to_float(wi), fo = to_float(wo);
                         source.eval_cos(fi, fo, query, raw.data());
                         model.eval_all(fi, fo, base.data());
                         bool finite = true;
                         for (std::size_t ch = 0; ch < C; ++ch) finite = finite && std::isfinite(raw[ch]);
-                        if (!finite) continue;
+                        if (!finite) return;
                         for (std::size_t ch = 0; ch < C; ++ch) {
                             albedo_source[v * C + ch] += q * std::max(0.0, double(raw[ch]) / fo.z);
                             albedo_base[v * C + ch] += q * base[ch];
@@ -470,8 +489,7 @@ DetailSystem assemble_detail_system(const Brdf& source, const NpfModel& model, c
                                                                   hd.phi_d);
                         const Trilinear t = trilinear(g, at);
                         for (int j = 0; j < 8; ++j) rows[v][t.index[j]] += q * t.weight[j];
-                    }
-                }
+                });
             }
         }, threads);
     }
@@ -543,40 +561,90 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
                                 members.begin() + long((k + 1) * members.size() / count));
         }
     }
-    npf::parallel_for(chains.size(), [&](std::size_t k) {
-        std::vector<double> x(cells, 0.0);
-        for (std::size_t ch : chains[k]) {
-            const fit_detail::NormalOperator op = fit_detail::NormalOperator::of(sys, ch);
-            iterations[ch] = fit_detail::solve(op, sys.rhs[ch], x, o.max_iterations, o.tolerance);
-            for (std::size_t i = 0; i < cells; ++i) tables[ch * cells + i] = float(x[i]);
-        }
-    }, threads);
-    for (int it : iterations) report.iterations_max = std::max(report.iterations_max, it);
-    report_progress(0.8);
+    // Each pass solves every channel from the last pass's solution. The first pass holds the
+    // energy rows' linear albedo; each later one moves their targets by what the clamp
+    // max(0, NPF + r) added at each view in the last pass (measured by the same quadrature), so
+    // that the albedo of the layer as stored, clamp included, meets the source's.
+    std::vector<std::vector<double>> rhs = sys.rhs;
+    std::vector<std::vector<double>> solution(C, std::vector<double>(cells, 0.0));
+    std::vector<double> last_gain(V * C, 0.0);
+    // The model's albedo at each view ([views][channels]) by the energy rows' quadrature, its clamp
+    // max(0, NPF + r) included.
+    const auto clamped_albedo = [&] {
+        std::vector<double> albedo(V * C, 0.0);
+        npf::parallel_slices(V, std::size_t(threads), [&](std::size_t, std::size_t begin, std::size_t end) {
+            std::vector<double> with(C);
+            for (std::size_t v = begin; v < end; ++v) {
+                const Vec3 fi = to_float(sys.view_wi[v]);
+                fit_detail::for_each_albedo_sample(sys.view_wi[v], [&](const Vec3d& wo, double q) {
+                    NpfModel::Lookup at;
+                    if (!model.prepare(fi, to_float(wo), at)) return;
+                    model.values(at, with.data());
+                    for (std::size_t ch = 0; ch < C; ++ch) albedo[v * C + ch] += q * with[ch];
+                });
+            }
+        }, threads);
+        return albedo;
+    };
+    for (int pass = 0;; ++pass) {
+        npf::parallel_for(chains.size(), [&](std::size_t k) {
+            std::vector<double> x(cells, 0.0);  // the first pass starts from the chain's last channel
+            for (std::size_t ch : chains[k]) {
+                if (pass > 0) x = solution[ch];
+                const fit_detail::NormalOperator op = fit_detail::NormalOperator::of(sys, ch);
+                iterations[ch] = std::max(iterations[ch], fit_detail::solve(op, rhs[ch], x, o.max_iterations, o.tolerance));
+                solution[ch] = x;
+                for (std::size_t i = 0; i < cells; ++i) tables[ch * cells + i] = float(x[i]);
+            }
+        }, threads);
+        if (pass == 0) report_progress(0.8);
 
-    // ---- Compress across channels, store ---------------------------------------------------------
-    SpectralBasis basis = compress_tables(tables, C, cells, o.ratio, o.rank);
-    if (o.half_precision) {
-        for (float& v : basis.basis) v = float(Imath::half(v));
+        // ---- Compress across channels, store -----------------------------------------------------
+        SpectralBasis basis = compress_tables(tables, C, cells, o.ratio, o.rank, /*per_channel=*/true);
+        if (o.half_precision) {
+            for (float& v : basis.basis) v = float(Imath::half(v));
+        }
+        model.detail_grid = g;
+        model.detail = std::move(basis);
+        if (pass >= o.clamp_passes || V == 0) break;
+
+        // What the clamp adds at each view: the stored layer's albedo, clamp included, minus its
+        // linear part (the energy rows' own sums).
+        std::vector<double> gain = clamped_albedo();
+        for (std::size_t v = 0; v < V; ++v) {
+            for (std::size_t ch = 0; ch < C; ++ch) {
+                double linear = sys.albedo_base[v * C + ch];
+                for (std::size_t i = 0; i < cells; ++i) linear += sys.rows[v][i] * model.detail.at(ch, i);
+                gain[v * C + ch] -= linear;
+            }
+        }
+        // Settled: the clamp's gain moved no albedo by more than 0.05 % since the last pass.
+        double moved = 0.0;
+        for (std::size_t v = 0; v < V; ++v) {
+            for (std::size_t ch = 0; ch < C; ++ch) {
+                const double a = sys.albedo_source[v * C + ch];
+                if (a > 0.0) moved = std::max(moved, std::fabs(gain[v * C + ch] - last_gain[v * C + ch]) / a);
+            }
+        }
+        if (moved < 5e-4) break;
+        last_gain = gain;
+        rhs = sys.rhs;
+        for (std::size_t ch = 0; ch < C; ++ch) {
+            if (sys.row_weight[ch].empty()) continue;
+            for (std::size_t v = 0; v < V; ++v) {
+                const double shift = -sys.row_weight[ch][v] * gain[v * C + ch];
+                if (shift == 0.0) continue;
+                for (std::size_t i = 0; i < cells; ++i) rhs[ch][i] += shift * sys.rows[v][i];
+            }
+        }
     }
-    model.detail_grid = g;
-    model.detail = std::move(basis);
+    for (int it : iterations) report.iterations_max = std::max(report.iterations_max, it);
     model.validate(kWhat);
 
     // ---- What the stored layer achieves (clamp included) -----------------------------------------
     {
-        std::vector<double> albedo_after(V * C, 0.0);
-        for (std::size_t v = 0; v < V; ++v) {
-            for (std::size_t ch = 0; ch < C; ++ch) albedo_after[v * C + ch] = sys.albedo_base[v * C + ch];
-        }
-        // The linear part exactly; the clamp's effect is left to npf albedo's measurement.
-        for (std::size_t v = 0; v < V; ++v) {
-            for (std::size_t ch = 0; ch < C; ++ch) {
-                double dot = 0.0;
-                for (std::size_t i = 0; i < cells; ++i) dot += sys.rows[v][i] * model.detail.at(ch, i);
-                albedo_after[v * C + ch] += dot;
-            }
-        }
+        // Clamp included: the albedo the stored layer gives (npf albedo measures it independently).
+        const std::vector<double> albedo_after = V > 0 ? clamped_albedo() : std::vector<double>{};
         report.energy_error_after = sys.energy_error(albedo_after);
         const std::size_t sh = sys.theta_h.angle.size();
         const int sd = int(sys.theta_d.angle.size()), sp = int(sys.phi_d.angle.size()), se = sys.phi_h_samples;

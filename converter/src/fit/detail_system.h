@@ -60,6 +60,7 @@ struct DetailSystem {
     std::vector<std::vector<double>> rows;        // [views][cells]
     std::vector<std::vector<double>> row_weight;  // [channels][views]
     std::vector<double> albedo_source, albedo_base;  // [views][channels], by the fit's quadrature
+    std::vector<Vec3d> view_wi;                      // [views]: the view directions
     std::size_t views() const { return rows.size(); }
     // The largest relative albedo error of `model_albedo` ([views][channels]) against the source.
     double energy_error(const std::vector<double>& model_albedo) const;

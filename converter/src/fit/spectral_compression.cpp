@@ -25,7 +25,7 @@ double energy(const std::vector<double>& s, std::size_t count) {
 }  // namespace
 
 SpectralBasis compress_tables(const std::vector<float>& tables, std::size_t channels, std::size_t cells, double ratio,
-                       int fixed_rank) {
+                              int fixed_rank, bool per_channel) {
     Eigen::MatrixXd a(static_cast<Eigen::Index>(cells), static_cast<Eigen::Index>(channels));
     for (std::size_t c = 0; c < channels; ++c) {
         for (std::size_t i = 0; i < cells; ++i) a(Eigen::Index(i), Eigen::Index(c)) = tables[c * cells + i];
@@ -41,6 +41,20 @@ SpectralBasis compress_tables(const std::vector<float>& tables, std::size_t chan
     s.singular_values.assign(sigma.data(), sigma.data() + sigma.size());
     const int full = int(s.singular_values.size());
     s.rank = fixed_rank > 0 ? std::min(fixed_rank, full) : rank_for_ratio(s.singular_values, ratio);
+    if (fixed_rank <= 0 && per_channel && ratio < 1.0) {
+        // Channel c keeps sum_{k<r} (sigma_k v_k(c))^2 of its |table_c|^2 = sum over all k.
+        for (std::size_t c = 0; c < channels; ++c) {
+            double whole = 0.0;
+            for (int k = 0; k < full; ++k) whole += std::pow(sigma(k) * v(Eigen::Index(c), k), 2);
+            double kept = 0.0;
+            int r = 0;
+            while (r < full && kept < ratio * whole) {
+                kept += std::pow(sigma(r) * v(Eigen::Index(c), r), 2);
+                ++r;
+            }
+            s.rank = std::max(s.rank, r);
+        }
+    }
     const double total = energy(s.singular_values, s.singular_values.size());
     s.kept_ratio = total > 0.0 ? std::min(1.0, energy(s.singular_values, std::size_t(s.rank)) / total) : 1.0;
 
@@ -111,8 +125,8 @@ NpfModel compress_factors(const NpfFactors& f, const CompressionOptions& options
     m.rho_d = f.rho_d;
     m.rho_s = f.rho_s;
     m.F = f.F;
-    m.D = compress_tables(f.D, C, f.d_size(), options.d_ratio, options.d_rank);
-    m.G = compress_tables(f.G, C, f.g_size(), options.g_ratio, options.g_rank);
+    m.D = compress_tables(f.D, C, f.d_size(), options.d_ratio, options.d_rank, options.per_channel);
+    m.G = compress_tables(f.G, C, f.g_size(), options.g_ratio, options.g_rank, options.per_channel);
     return m;
 }
 

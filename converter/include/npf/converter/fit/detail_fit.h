@@ -36,6 +36,18 @@ struct DetailOptions {
     int samples_per_cell = 3;       // per axis: the data samples, a regular grid of this many per cell
     int phi_h_samples = 8;          // anisotropic models: half-vector azimuths the residual averages over
     double display_power = 0.4;     // p of the data weight (0: plain cosine-weighted least squares)
+    // How a sample's share of the data term is measured along theta_h. SolidAngle: Rusinkiewicz's
+    // cell measure, sin(theta_h) d(theta_h) ...: a glossy peak narrower than a degree then weighs
+    // almost nothing, so its height is free (cg_sunflower's mirror peak came out at half its height)
+    // although a small light, a point light or a mirror pair sees exactly that height. HalfAngle
+    // (the default): d(theta_h) without the sin(theta_h), every half-vector angle on an equal
+    // footing (docs/fitting.md, "The peak: measured per half-vector angle").
+    enum class Measure { SolidAngle, HalfAngle };
+    Measure measure = Measure::HalfAngle;
+    // Passes that refit the energy targets to the clamped model (f_r = max(0, NPF + r): where the
+    // layer drives a dark channel below 0, the clamp adds light the linear energy rows cannot
+    // see). 0: the linear fit alone.
+    int clamp_passes = 8;
     double display_epsilon = 0.01;  // eps of the data weight, 1/sr
     double energy_weight = 1e4;     // 0 disables the energy term
     std::vector<double> energy_views_deg = {0, 10, 20, 30, 40, 50, 60, 65, 70, 75, 80};

@@ -14,6 +14,12 @@
 // ratio of 1 keeps every component (lossless to float precision: rank min(cells, channels)).
 // A positive explicit rank overrides the ratio (clamped to min(cells, channels)).
 //
+// Per channel (CompressionOptions::per_channel, the default but for the paper preset): the ratio
+// must hold for every channel's own table, sum_{k<r} w[c][k]^2 >= ratio |table_c|^2, not only for
+// the total. The total is ruled by the bright channels; a colour that shifts with angle (a paint
+// whose highlight is gold and whose edge is violet) sits in a small second component that the
+// total ratio drops, and the wavelengths that need it lose a third of their light.
+//
 // Each basis vector's largest-magnitude entry is made positive (its weights flip with it), so
 // the output is deterministic.
 #pragma once
@@ -26,6 +32,7 @@ namespace npf {
 struct CompressionOptions {
     double d_ratio = 1.0, g_ratio = 1.0;  // in (0, 1]; 1 keeps all components
     int d_rank = 0, g_rank = 0;           // > 0 fixes the rank; 0 chooses it by ratio
+    bool per_channel = true;              // the ratio holds for every channel (above), not only the total
 };
 
 // The model with D and G compressed and rho_d, rho_s, F copied; metadata empty. Throws
@@ -35,7 +42,7 @@ NpfModel compress_factors(const NpfFactors& factors, const CompressionOptions& o
 // The same compression for any set of tables: `tables` holds `channels` tables of `cells` values,
 // channel after channel; the rank by `ratio`, or `fixed_rank` when positive (the detail layer's).
 SpectralBasis compress_tables(const std::vector<float>& tables, std::size_t channels, std::size_t cells, double ratio,
-                              int fixed_rank);
+                              int fixed_rank, bool per_channel = false);
 
 // The smallest rank whose cumulative contribution ratio reaches `ratio` (see above); all of
 // them for ratio >= 1, 1 when every singular value is 0.
