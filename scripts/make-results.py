@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Regenerates docs/results.md: the accuracy ladder (every --preset and the paper's Neural BRDF
-baseline on each material: size, render PSNR with its noise floor, albedo, fit and evaluation
-time), the paper's Tables 1 and 2 on our data and side-by-side renders, by running the npf tool
-(synth, convert, render, compare, albedo, bench).
+baseline on each material: size, render PSNR under the studio and key-rim lightings with their
+noise floors and under the noise-free directional lights, the relative RMS error in BRDF space,
+albedo, fit and evaluation time), the paper's Tables 1 and 2 on our data and side-by-side
+renders, by running the npf tool (synth, convert, render, compare, eval, albedo, bench).
 
     python3 scripts/make-results.py [--quick] [--work DIR] [--fresh] [--npf PATH]
 
@@ -54,6 +55,12 @@ LADDER_THETAS = [0, 20, 40, 60, 70, 80]
 # (standard errors about 0.1 %); a Neural BRDF is sampled by the cosine and its MIS partner, so
 # glossy networks need more cells to bring the standard error of the worst difference down.
 ALBEDO_SAMPLES = {"npf": 256, "nbrdf": 1024}
+# The ladder's lightings besides the shipped studio map (npf render --light, docs/render.md sec. 2a):
+# key-rim is a map (environment sampling and a paired floor, as studio); directional is delta
+# lights without Monte Carlo, so one render and no floor.
+LIGHTS = ["key-rim", "directional"]
+# BRDF space: count the pairs with both directions within this angle (the views the fit holds).
+BRDF_MAX_THETA = 80.0
 # The targets the ladder is judged by: (PSNR in dB, largest file as a fraction of the input).
 TARGETS = [(40.0, 1.0 / 8), (45.0, 1.0 / 3)]
 
@@ -146,17 +153,25 @@ class Runner:
         # differences come from the fit alone.
         return None if name in REAL else self.args.render_wavelengths
 
-    def render(self, material, tag, name, spp=None, seed=1):
+    def render(self, material, tag, name, spp=None, seed=1, light="studio"):
         # Environment sampling alone: a material and its reference rendered at the same seed are
         # then estimated at the same light directions, and their difference is nearly free of
         # noise (the paired noise floor, docs/metrics.md). "env" in the name keeps a work folder
         # of earlier (MIS) runs from being reused, and the size and sample count those of other
-        # settings.
+        # settings. The studio map (the default lighting) keeps the names of the runs before
+        # --light; other lightings add theirs. Directional lights have no Monte Carlo: one render,
+        # whatever spp and seed.
         spp = spp or self.args.spp
-        out = self.path("%s.%s.env.%d.%dspp%s.exr" % (name, tag, self.args.size, spp,
-                                                      "" if seed == 1 else ".seed%d" % seed))
+        if light == "directional":
+            out = self.path("%s.%s.directional.%d.exr" % (name, tag, self.args.size))
+        else:
+            out = self.path("%s.%s.%senv.%d.%dspp%s.exr" % (name, tag, "" if light == "studio" else light + ".",
+                                                          self.args.size, spp,
+                                                          "" if seed == 1 else ".seed%d" % seed))
         cmd = [self.npf, "render", material, "-o", out, "--size", str(self.args.size), "--spp",
                str(spp), "--seed", str(seed), "--sampling", "env", "--quiet"]
+        if light != "studio":
+            cmd += ["--light", light]
         if self.wavelengths(name):
             cmd += ["--wavelengths", self.wavelengths(name)]
         self.timed("render:" + out, out, cmd, source=material)
@@ -174,9 +189,70 @@ class Runner:
         self.timed("render:" + out, out, cmd, source=material)
         return out[:-4] + ".png"
 
-    def render_pair(self, material, tag, name, spp=None):
+    def render_pair(self, material, tag, name, spp=None, light="studio"):
         """The material rendered at seeds 1 and 2: what compare_pair needs for the noise floor."""
-        return (self.render(material, tag, name, spp, seed=1), self.render(material, tag, name, spp, seed=2))
+        return (self.render(material, tag, name, spp, seed=1, light=light),
+                self.render(material, tag, name, spp, seed=2, light=light))
+
+    def compare_light(self, material, reference, tag, name, light):
+        """The material against its reference under one of LIGHTS: paired with its floor (a map), or
+        the one noise-free pair of renders (directional; its floor is infinite, none is rendered)."""
+        if light == "directional":
+            m = self.compare(self.render(reference, "reference", name, light=light),
+                             self.render(material, tag, name, light=light))
+            m["noise_floor_db"] = math.inf
+            m["noise_limited"] = False
+            return m
+        return self.compare_pair(self.render_pair(reference, "reference", name, light=light),
+                                 self.render_pair(material, tag, name, light=light))
+
+    def reference_values(self, name):
+        """(dirs.txt, <name>.txt) of the RGL group's own loader (rgl/reference in the shared data),
+        or None where the material has none."""
+        folder = os.path.join(self.args.shared, "rgl", "reference")
+        dirs, values = os.path.join(folder, "dirs.txt"), os.path.join(folder, name + ".txt")
+        return (dirs, values) if os.path.exists(dirs) and os.path.exists(values) else None
+
+    def brdf_rms(self, material, name):
+        """The relative RMS of f_r cos(theta_o) in BRDF space, every channel pooled,
+        sqrt(sum (t - r)^2 / sum r^2), over the pairs with both directions within BRDF_MAX_THETA:
+        at the 500 reference pairs against the RGL loader's values where the material has them
+        (`npf eval --dirs --cos`), else at npf's 500 held-out pairs against the source
+        (`npf eval --against --json`). Returns {"relative_rms", "pairs", "truth"}."""
+        ref = self.reference_values(name)
+        if ref:
+            dirs, values = ref
+            cmd = [self.npf, "eval", material, "--dirs", dirs, "--cos"]
+
+            def measure():
+                test = rows_of(self.run(cmd, capture=True))
+                truth = rows_of(open(values).read())
+                pairs = rows_of(open(dirs).read())
+                if not (len(test) == len(truth) == len(pairs)):
+                    raise SystemExit("make-results: %s: %d values, %d reference values, %d pairs" % (
+                        " ".join(cmd), len(test), len(truth), len(pairs)))
+                cos_max = math.cos(math.radians(BRDF_MAX_THETA))
+                num = den = 0.0
+                used = 0
+                for d, t, r in zip(pairs, test, truth):
+                    if d[2] >= cos_max and d[5] >= cos_max:
+                        used += 1
+                        num += sum((a - b) ** 2 for a, b in zip(t, r))
+                        den += sum(b * b for b in r)
+                return {"relative_rms": math.sqrt(num / den), "pairs": used, "truth": "rgl-reference"}
+
+            return self.cached_json("brdf:" + " ".join(cmd[2:]) + " " + stamp(material) + " " + stamp(values), measure)
+        cmd = [self.npf, "eval", material, "--against", self.source(name), "--max-theta", "%g" % BRDF_MAX_THETA,
+               "--json"]
+        if self.wavelengths(name):
+            cmd += ["--wavelengths", self.wavelengths(name)]
+
+        def against():
+            m = json.loads(self.run(cmd, capture=True))
+            return {"relative_rms": float(m["relative_rms"]), "pairs": int(m["used"]), "truth": "held-out"}
+
+        return self.cached_json("brdf:" + " ".join(cmd[2:]) + " " + stamp(material) + " " + stamp(self.source(name)),
+                                against)
 
     def convert(self, name, tag, extra):
         """(file, fit seconds): the time npf convert's summary reports (the conversion alone), else
@@ -189,6 +265,22 @@ class Runner:
         seconds = self.timed("convert:" + out, out, cmd, log_path=summary, source=self.source(name))
         m = re.search(r"^\s*time\s+([0-9.]+) s", open(summary).read(), re.M)
         return out, float(m.group(1)) if m else seconds
+
+    def convert_or_fail(self, name, tag, extra):
+        """convert(), or (None, npf's error) where npf refuses the conversion: the ladder shows a
+        refused tier as such instead of stopping. The refusal is remembered for this npf binary and
+        source (a later run with either changed tries again)."""
+        key = "failed:convert:%s.%s %s %s %s" % (name, tag, " ".join(extra), stamp(self.npf), stamp(self.source(name)))
+        if key in self.times:
+            return None, self.times[key]
+        try:
+            return self.convert(name, tag, extra)
+        except SystemExit as e:
+            lines = [l for l in str(e).splitlines() if "error:" in l]
+            self.times[key] = lines[-1].split("error:", 1)[1].strip() if lines else str(e).strip().splitlines()[-1]
+            self.save_times()
+            log("  refused: " + self.times[key])
+            return None, self.times[key]
 
     def detail_dropped(self, fitted):
         """Whether npf convert fitted a detail layer and left it out (anisotropic materials, where it
@@ -232,6 +324,12 @@ class Runner:
             cmd += ["--wavelengths", self.args.render_wavelengths]
         return self.cached_json("albedo:" + " ".join(cmd[2:]) + " " + stamp(material) + " " + stamp(reference),
                                 lambda: json.loads(self.run(cmd, capture=True)))
+
+
+def rows_of(text):
+    """The rows of numbers of a text table, lines starting with '#' and blank ones skipped."""
+    return [[float(v) for v in line.split()] for line in text.splitlines() if line.strip() and
+            not line.lstrip().startswith("#")]
 
 
 def stamp(path):
@@ -371,8 +469,12 @@ def fmt_albedo(worst):
     return text + (" +- %.1f" % se if se >= 0.5 else "")
 
 
+def fmt_rms(b):
+    return "%.2f %%" % (100 * b["relative_rms"])
+
+
 def meets(row, psnr, fraction, input_mb):
-    return row["m"]["PSNR"] >= psnr and row["mb"] <= fraction * input_mb
+    return row is not None and row["m"]["PSNR"] >= psnr and row["mb"] <= fraction * input_mb
 
 
 def fraction_label(fraction):
@@ -395,21 +497,29 @@ def ladder_verdicts(ladder):
     with_nbrdf = [n for n in names if ladder[n]["nbrdf"]]
     labels = [label for _, label, _ in TIERS] + ([NBRDF] if with_nbrdf else [])
     out = ["| tier | " + " | ".join("%g dB at <= %s of the input" % (p, fraction_label(f)) for p, f in TARGETS) +
-           " | higher PSNR than Neural BRDF | and smaller |",
-           "|---|" + "---|" * (len(TARGETS) + 2)]
+           " | higher studio PSNR than Neural BRDF | and smaller | higher key-rim PSNR | higher directional PSNR "
+           "| lower BRDF rel. RMS than Neural BRDF |",
+           "|---|" + "---|" * (len(TARGETS) + 5)]
     for label in labels:
         pool = with_nbrdf if label == NBRDF else names
         cells = []
         for psnr, fraction in TARGETS:
-            cells.append(listing([n for n in pool if meets(ladder[n]["by_label"][label], psnr, fraction,
+            cells.append(listing([n for n in pool if meets(ladder[n]["by_label"].get(label), psnr, fraction,
                                                            ladder[n]["input_mb"])], len(pool)))
         if label == NBRDF:
-            cells += ["", ""]
+            cells += ["", "", "", "", ""]
         else:
-            better = [n for n in with_nbrdf
+            # A tier npf refused on a material counts as not ahead there.
+            pool = [n for n in with_nbrdf if label in ladder[n]["by_label"]]
+            better = [n for n in pool
                       if ladder[n]["by_label"][label]["m"]["PSNR"] > ladder[n]["by_label"][NBRDF]["m"]["PSNR"]]
             smaller = [n for n in better if ladder[n]["by_label"][label]["mb"] <= ladder[n]["by_label"][NBRDF]["mb"]]
             cells += [listing(better, len(with_nbrdf)), listing(smaller, len(with_nbrdf))]
+            for light in LIGHTS:
+                cells.append(listing([n for n in pool if ladder[n]["by_label"][label]["lights"][light]["PSNR"] >
+                                      ladder[n]["by_label"][NBRDF]["lights"][light]["PSNR"]], len(with_nbrdf)))
+            cells.append(listing([n for n in pool if ladder[n]["by_label"][label]["brdf"]["relative_rms"] <
+                                  ladder[n]["by_label"][NBRDF]["brdf"]["relative_rms"]], len(with_nbrdf)))
         out.append("| %s | %s |" % (label, " | ".join(cells)))
     out.append("")
     # Per material: the smallest tier that meets each target, and the PSNR gained over the network.
@@ -433,17 +543,67 @@ def ladder_verdicts(ladder):
                                                        row["mb"] / nb["mb"])
                      for row in ladder[n]["rows"] if row["tier"] != NBRDF]
             parts.append("%s (%s dB): %s" % (short(n), fmt_psnr(nb["m"]["PSNR"]), ", ".join(gains)))
-        out.append("- **Against Neural BRDF** (PSNR of each tier minus the network's, and its size as a multiple "
-                   "of the network's %s): %s." % (fmt_size(ladder[with_nbrdf[0]]["by_label"][NBRDF]["mb"]),
-                                                 "; ".join(parts)))
-    limited = ["%s %s" % (short(n), row["tier"]) for n in names for row in ladder[n]["rows"]
+        out.append("- **Against Neural BRDF** (studio PSNR of each tier minus the network's, and its size as a "
+                   "multiple of the network's %s): %s." % (fmt_size(ladder[with_nbrdf[0]]["by_label"][NBRDF]["mb"]),
+                                                          "; ".join(parts)))
+        parts = []
+        for n in with_nbrdf:
+            nb = ladder[n]["by_label"][NBRDF]
+            cells = ["%s %+.1f / %+.1f" % (row["tier"].split()[0],
+                                           *(row["lights"][light]["PSNR"] - nb["lights"][light]["PSNR"]
+                                             for light in LIGHTS))
+                     for row in ladder[n]["rows"] if row["tier"] != NBRDF]
+            parts.append("%s (%s / %s dB): %s" % (short(n), *(fmt_psnr(nb["lights"][light]["PSNR"]) for light in LIGHTS),
+                                                  ", ".join(cells)))
+        out.append("- **Against Neural BRDF under key-rim / directional** (each tier's PSNR minus the network's, "
+                   "in dB): %s." % "; ".join(parts))
+        parts = []
+        for n in with_nbrdf:
+            nb = ladder[n]["by_label"][NBRDF]
+            cells = ["%s %s" % (row["tier"].split()[0], fmt_rms(row["brdf"])) for row in ladder[n]["rows"]
+                     if row["tier"] != NBRDF]
+            parts.append("%s (network %s): %s" % (short(n), fmt_rms(nb["brdf"]), ", ".join(cells)))
+        out.append("- **BRDF rel. RMS against Neural BRDF** (at the reference pairs within %g degrees): %s." % (
+            BRDF_MAX_THETA, "; ".join(parts)))
+    refused = ["%s %s" % (short(n), f["tier"]) for n in names for f in ladder[n]["failed"]]
+    if refused:
+        out.append("- **Refused.** `npf convert` refused these conversions (its error is in the tier's row of the "
+                   "material's table): %s. They count as missing every target and as behind the network." %
+                   ", ".join(refused))
+    limited = ["%s %s (studio)" % (short(n), row["tier"]) for n in names for row in ladder[n]["rows"]
                if row["m"].get("noise_limited")]
+    limited += ["%s %s (key-rim)" % (short(n), row["tier"]) for n in names for row in ladder[n]["rows"]
+                if row["lights"]["key-rim"].get("noise_limited")]
     out.append("- **Noise.** %s" % (
-        "Every PSNR above is more than 3 dB below its paired noise floor, so each measures the materials' "
-        "difference, not the renders' noise." if not limited else
-        "Within 3 dB of the noise floor (starred; their true PSNR is higher, so a target they meet holds, one they "
-        "miss may not): %s." % ", ".join(limited)))
+        "Every studio and key-rim PSNR in the tables is more than 3 dB below its paired noise floor, so each "
+        "measures the materials' difference, not the renders' noise (directional renders have none)." if not limited
+        else "Within 3 dB of the noise floor (starred; their true PSNR is higher, so a target they meet holds, one "
+        "they miss may not): %s. Directional renders have no noise." % ", ".join(limited)))
     return out
+
+
+def sections(text):
+    """[(heading line or None, text)]: text cut before each line starting with '## '."""
+    parts = re.split(r"(?m)^(?=## )", text)
+    return [(part.splitlines()[0] if part.startswith("## ") else None, part) for part in parts]
+
+
+def keep_hand_sections(old, new):
+    """new with the sections of old (its generated part) that this script does not write, each put
+    back after the section it followed (e.g. "Speed beside the paper's", written by hand with
+    figures from other runs): regenerating must not lose them."""
+    new_parts = sections(new)
+    written = {h for h, _ in new_parts}
+    previous = None
+    for heading, part in sections(old):
+        if heading is not None and heading not in written:
+            at = next((k + 1 for k, (h, _) in enumerate(new_parts) if h == previous), len(new_parts))
+            if not part.endswith("\n\n"):
+                part = part.rstrip("\n") + "\n\n"
+            new_parts.insert(at, (heading, part))
+            written.add(heading)
+        previous = heading
+    return "".join(part for _, part in new_parts)
 
 
 def main():
@@ -514,17 +674,26 @@ def main():
         raw = r.source(name)
         ref = r.render_pair(raw, "reference", name)
         rows = []
+        failed = []  # tiers whose conversion npf refused: (label, its error), shown as such
         for tag, label, extra in TIERS:
             if tag == "paper" and name in LADDER_SYNTHETIC and args.paper_sweeps > 0 and \
                     "--iterations" not in args.synthetic_convert_flags:
                 tag, extra = "paper-%dsweeps" % args.paper_sweeps, extra + ["--iterations", str(args.paper_sweeps)]
                 capped[name] = args.paper_sweeps
-            fitted, seconds = r.convert(name, tag, extra)
+            if tag == "ours":  # Table 1 and the pictures need the production conversion: no failing there
+                fitted, seconds = r.convert(name, tag, extra)
+            else:
+                fitted, seconds = r.convert_or_fail(name, tag, extra)
+                if fitted is None:
+                    failed.append({"tier": label, "tag": tag, "error": seconds})
+                    continue
             img = r.render_pair(fitted, tag, name)
             heat = r.path("%s.%s.heat.png" % (name, tag)) if tag == "ours" else None
             rows.append({"tier": label, "tag": tag, "file": fitted, "mb": file_mb(fitted), "fit_s": seconds,
                          "dropped": r.detail_dropped(fitted),
                          "m": r.compare_pair(ref, img, heat),
+                         "lights": {light: r.compare_light(fitted, raw, tag, name, light) for light in LIGHTS},
+                         "brdf": r.brdf_rms(fitted, name),
                          "albedo": r.albedo(fitted, raw, LADDER_THETAS, ALBEDO_SAMPLES["npf"])["worst"],
                          "eval_ns": r.bench(fitted)["eval_memory_ns"]})
         nb = r.nbrdf(name)
@@ -534,9 +703,15 @@ def main():
             production = [row for row in rows if row["tag"] == "ours"][0]
             rows.append({"tier": NBRDF, "tag": "nbrdf", "file": nb, "mb": file_mb(nb), "fit_s": None,
                          "m": r.compare_pair(ref, img),
+                         "lights": {light: r.compare_light(nb, raw, "nbrdf", name, light) for light in LIGHTS},
+                         "brdf": r.brdf_rms(nb, name),
                          "albedo": r.albedo(nb, raw, LADDER_THETAS, ALBEDO_SAMPLES["nbrdf"])["worst"],
                          "eval_ns": r.bench(production["file"], against=nb)["eval_raw_ns"]})
-        ladder[name] = {"input_mb": file_mb(raw), "input": raw, "rows": rows, "nbrdf": nb,
+        # The raw file through npf's own reader, by the same measure: what the column reads when
+        # the conversion is perfect (the reader against the RGL loader).
+        reader = r.brdf_rms(raw, name) if r.reference_values(name) else None
+        ladder[name] = {"input_mb": file_mb(raw), "input": raw, "rows": rows, "nbrdf": nb, "failed": failed,
+                        "reader": reader,
                         "by_label": {row["tier"]: row for row in rows}}
     stage("ladder")
     plot(os.path.join(images, "ladder.png"), [
@@ -687,10 +862,36 @@ def main():
                       " and ".join(fmt_size(ladder[n]["input_mb"]) for n in LADDER_SYNTHETIC),
                       args.max_wavelengths, args.render_wavelengths)))
     md.append("")
-    md.append("- **PSNR, SSIM**: paired renders (reference and test at the same seed, environment sampling alone), "
-              "the display-encoded images compared by `npf compare`; **floor**: the PSNR's paired noise floor, the "
-              "same pair again at seed 2 (`npf compare --floor`, [metrics.md](metrics.md) sec. 5); a star marks a "
-              "PSNR within 3 dB of its floor.")
+    ref_pairs = [row["brdf"]["pairs"] for lad in ladder.values() for row in lad["rows"]
+                 if row["brdf"]["truth"] == "rgl-reference"]
+    held_out_names = [n for n in ladder if ladder[n]["rows"][0]["brdf"]["truth"] == "held-out"]
+    md.append("- **Studio PSNR, SSIM**: paired renders under the shipped studio map (`npf render`'s default "
+              "lighting; reference and test at the same seed, environment sampling alone), the display-encoded "
+              "images compared by `npf compare`; **floor**: the PSNR's paired noise floor, the same pair again at "
+              "seed 2 (`npf compare --floor`, [metrics.md](metrics.md) sec. 5); a star marks a PSNR within 3 dB of "
+              "its floor.")
+    md.append("- **Key-rim PSNR** and its **floor**: the same paired comparison under `npf render --light key-rim` "
+              "([render.md](render.md) sec. 2a: a dim grey sky with two small bright discs, a key light above and in "
+              "front of the sphere, whose reflection shows the height and shape of a glossy peak, and a grazing rim "
+              "light behind it, which lights the grazing band along the silhouette), same size, samples, seeds and "
+              "environment sampling as studio.")
+    md.append("- **Directional PSNR**: `npf render --light directional` (the key's and the rim's directions as delta "
+              "lights, one ray per pixel, no Monte Carlo), reference and test compared by `npf compare`. Nothing in "
+              "it is noise, so it has no floor (none is rendered) and is never starred; it is the pointwise check.")
+    md.append("- **BRDF rel. RMS**: the relative RMS error of f_r cos(theta_o) in BRDF space, every channel pooled, "
+              "sqrt(sum (t - r)^2 / sum r^2), over the pairs with both directions within %g degrees of the normal. "
+              "t: the conversion (or network) evaluated by `npf eval CONV --dirs dirs.txt --cos`; pairs and truth r: "
+              "the 500 reference pairs of `../shared/data/rgl/reference/dirs.txt` (%s of them within %g degrees) "
+              "and the values the RGL group's own loader (`powitacq_rgb`) gives there "
+              "(`reference/<material>.txt`): a truth that does not go through npf's reader (the raw files "
+              "themselves, through npf's reader, score %s by it).%s" % (
+                  BRDF_MAX_THETA, "/".join(str(k) for k in sorted(set(ref_pairs))) or "none", BRDF_MAX_THETA,
+                  "at most %.1e" % max(lad["reader"]["relative_rms"] for lad in ladder.values() if lad["reader"])
+                  if any(lad["reader"] for lad in ladder.values()) else "-",
+                  "" if not held_out_names else
+                  " %s (no reference values): `npf eval CONV --against SOURCE --json` instead, its `relative_rms`, "
+                  "the same quantity at npf's 500 fixed held-out pairs against the source file as npf reads it "
+                  "(marked \"held-out pairs\" in its table)." % ", ".join(held_out_names)))
     md.append("- **Albedo**: the largest relative difference of the directional albedo from the raw file over the "
               "views %s degrees and every channel (`npf albedo CONV --against RAW --samples N`; N = %d for NPF "
               "files, %d for the networks, whose sampler finds glossy lobes less well), with the view where it "
@@ -702,23 +903,39 @@ def main():
               "`eval_raw_ns`).\n")
     md.append("![the accuracy ladder](%s/ladder.png)\n" % image_folder)
     md.append("Each line joins a material's paper, preview, production and fine conversions, in that order; "
-              "crosses: the Neural BRDF of the same material. Which tiers meet the targets (computed from the "
-              "tables below):\n")
+              "crosses: the Neural BRDF of the same material (studio PSNR). Which tiers meet the targets (studio "
+              "PSNR and size, computed from the tables below), and on how many materials each tier is ahead of the "
+              "network under each lighting and in BRDF space:\n")
     md.extend(ladder_verdicts(ladder))
     md.append("")
     for name in ladder:
         lad = ladder[name]
         md.append("**%s** (input %s, `%s`)\n" % (name, fmt_size(lad["input_mb"]), os.path.basename(lad["input"])))
-        md.append("| tier | size | ratio to input | PSNR (dB) | floor (dB) | SSIM | worst albedo error, 0..80 deg "
-                  "| fit (s) | eval (ns) |")
-        md.append("|---|---|---|---|---|---|---|---|---|")
-        for row in lad["rows"]:
-            md.append("| %s | %s | 1/%.1f | %s | %s | %.4f | %s | %s | %.0f |" % (
+        held_out = lad["rows"][0]["brdf"]["truth"] == "held-out"
+        md.append("| tier | size | ratio to input | studio PSNR (dB) | floor (dB) | key-rim PSNR (dB) | floor (dB) "
+                  "| directional PSNR (dB) | SSIM (studio) | BRDF rel. RMS%s | worst albedo error, 0..80 deg "
+                  "| fit (s) | eval (ns) |" % (" (held-out pairs)" if held_out else ""))
+        md.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+        order = [label for _, label, _ in TIERS] + [NBRDF]
+        for row in sorted(lad["rows"] + lad["failed"], key=lambda q: order.index(q["tier"])):
+            if "error" in row:
+                error = row["error"].replace(os.path.dirname(lad["input"]) + os.sep, "").replace("|", "/")
+                md.append("| %s | refused by `npf convert`: %s |%s" % (row["tier"], error, " |" * 11))
+                continue
+            kr, dl = row["lights"]["key-rim"], row["lights"]["directional"]
+            md.append("| %s | %s | 1/%.1f | %s | %s | %s | %s | %s | %.4f | %s | %s | %s | %.0f |" % (
                 row["tier"] + (" (detail layer not kept)" if row.get("dropped") else ""), fmt_size(row["mb"]),
                 lad["input_mb"] / row["mb"], fmt_psnr_judged(row["m"]),
-                fmt_psnr(row["m"]["noise_floor_db"]), row["m"]["SSIM"], fmt_albedo(row["albedo"]),
+                fmt_psnr(row["m"]["noise_floor_db"]), fmt_psnr_judged(kr), fmt_psnr(kr["noise_floor_db"]),
+                fmt_psnr(dl["PSNR"]), row["m"]["SSIM"], fmt_rms(row["brdf"]), fmt_albedo(row["albedo"]),
                 "%.1f" % row["fit_s"] if row["fit_s"] is not None else "(trained)", row["eval_ns"]))
         md.append("")
+        if held_out:
+            md.append("(BRDF rel. RMS: %s has no values from the RGL group's loader; the column is `npf eval CONV "
+                      "--against %s --json`, `relative_rms`: the same quantity at npf's 500 fixed held-out pairs "
+                      "(%d within %g degrees), against the source file as read by npf%s.)\n" % (
+                          name, os.path.basename(lad["input"]), lad["rows"][0]["brdf"]["pairs"], BRDF_MAX_THETA,
+                          ", at %s nm" % args.render_wavelengths if name not in REAL else ""))
         if name in capped:
             md.append("(paper: the preset with its sweeps capped at %d, `--iterations %d`. Uncapped, the line search "
                       "crawls on to the preset's 500-sweep cap, longer than all the rest of this run on 2 cores, "
@@ -793,12 +1010,14 @@ def main():
     md.append("<!-- analysis -->\n")
     out = os.path.join(args.docs, "results.md" if not args.quick else "results-quick.md")
     analysis = ""
+    text = "\n".join(md)
     if os.path.exists(out):
         old = open(out).read()
         if "<!-- analysis -->" in old:
             analysis = "\n" + old.split("<!-- analysis -->", 1)[1].lstrip("\n")
+        text = keep_hand_sections(old.split("<!-- analysis -->", 1)[0], text)
     with open(out + ".tmp", "w") as f:
-        f.write("\n".join(md) + analysis)
+        f.write(text + analysis)
     os.replace(out + ".tmp", out)
     log("wrote " + out)
     log("stages (wall, CPU of the npf processes; this run's steps only, cached ones cost nothing):")
