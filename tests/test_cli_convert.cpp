@@ -148,13 +148,13 @@ TEST(CliConvert, DefaultCarriesADetailLayerAndThePaperPresetDoesNot) {
         return r;
     };
     const ToolRun d = run("default", {}), p = run("paper", {"--preset", "paper"}), n = run("none", {"--detail", "none"});
-    EXPECT_TRUE(contains(d.out, "detail      32x12x32")) << d.out;
+    EXPECT_TRUE(contains(d.out, "detail      32x24x16")) << d.out;
     EXPECT_TRUE(contains(d.out, "horizon     G closed")) << d.out;
     EXPECT_FALSE(contains(p.out, "detail ")) << p.out;
     EXPECT_FALSE(contains(n.out, "detail ")) << n.out;
     const ToolRun di = npf::testing::run_tool({"info", dir + "/default.exr"});
     const ToolRun pi = npf::testing::run_tool({"info", dir + "/paper.exr"});
-    EXPECT_TRUE(contains(di.out, "detail grid: 32 x 12 x 32")) << di.out;
+    EXPECT_TRUE(contains(di.out, "detail grid: 32 x 24 x 16")) << di.out;
     EXPECT_TRUE(contains(di.out, "horizon_closed: 1 columns")) << di.out;
     EXPECT_FALSE(contains(pi.out, "detail grid")) << pi.out;
     EXPECT_TRUE(contains(pi.out, "horizon_closed: no")) << pi.out;

@@ -338,7 +338,7 @@ ConvertSettingsTable make_table() {
     t.push_back(r);
 
     r = choice("detail_measure", {"half-angle", "solid-angle"},
-               "half-angle (default: every half-vector angle counts alike, so a narrow peak keeps its height) or "
+               "half-angle (default but for the preview preset: every half-vector angle counts alike, so a narrow peak keeps its height) or "
                "solid-angle (Rusinkiewicz's cell measure: a peak narrower than a degree weighs almost nothing)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) {
         s.detail.measure = v.text == "solid-angle" ? DetailOptions::Measure::SolidAngle : DetailOptions::Measure::HalfAngle;
@@ -385,7 +385,7 @@ ConvertSettingsTable make_table() {
 
     r = text("target_grids", [](const std::string& v, const std::string& what) { parse_detail_ladder(v, what); },
              "with --target-psnr: the detail grids to try after none, growing (default "
-             "16x8x16,24x10x24,32x12x32,40x20x40,48x24x48,64x32x64)");
+             "16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64)");
     r.takes_list = true;
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.target_ladder = parse_detail_ladder(v.text, "target_grids"); };
     r.read = [](const ConvertSettings& s) {
