@@ -65,3 +65,23 @@ TEST(DetailMeasure, ClampPassesHoldTheAlbedoOfTheStoredLayer) {
 }
 
 }  // namespace
+
+namespace {
+
+// A fit that degenerates where its weights see no data (the paper preset, no G pin, on a real
+// file with a sub-degree peak) is reported as the fit's fault, with the way out, and writes
+// nothing; the source is not called corrupt.
+TEST(DegenerateFit, IsNamedAsTheFitsFaultAndWritesNothing) {
+    const std::string source = std::string(NPF_SHARED_DATA_DIR) + "/rgl/cg_sunflower_rgb.bsdf";
+    if (!std::ifstream(source)) GTEST_SKIP() << "rgl/cg_sunflower_rgb.bsdf not found in the shared data folder";
+    const std::string dir = npf::testing::temporary_folder("degenerate-fit");
+    const npf::testing::ToolRun r = run_tool({"convert", source, "-o", dir + "/out.exr", "--preset", "paper", "--grid",
+                                              "45,1,45,90", "--g-grid", "45,1", "--no-predict", "--error-pairs", "0"});
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_NE(r.err.find("the fit is degenerate: its factors could give"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--preset production"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("corrupt"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::ifstream(dir + "/out.exr").good());
+}
+
+}  // namespace

@@ -339,6 +339,24 @@ ConvertReport convert_material_stages(const Brdf& source, const std::string& out
     report.g_kept_ratio = model.G.kept_ratio;
 
     if (settings.close_horizon) report.horizon_columns_closed = model.close_g_at_horizon();
+    // Factors that could give values no material reaches are the fit's fault, not the source's:
+    // say so here, before the file's own check calls the tables corrupt (core/brdf.h).
+    if (const double bound = model.value_bound(); !(bound <= kMaxMaterialValue)) {
+        std::size_t worst = 0;
+        double f_largest = 0.0;
+        for (std::size_t c = 0; c < model.channel_count(); ++c) {
+            const float* f = model.F.data() + c * std::size_t(model.f_theta);
+            const double m = *std::max_element(f, f + model.f_theta);
+            if (m > f_largest) f_largest = m, worst = c;
+        }
+        char text[320];
+        std::snprintf(text, sizeof text,
+                      "the fit is degenerate: its factors could give f_r cos(theta_i) cos(theta_o) up to %.3g 1/sr (largest F "
+                      "%.3g, channel %s), above the %.0e a material may reach; nothing written%s",
+                      bound, f_largest, model.channels.name(worst).c_str(), kMaxMaterialValue,
+                      settings.preset == ConvertPreset::Production ? "" : " (the production preset may fit it: --preset production)");
+        throw Error(info.path.empty() ? "convert" : info.path, text);
+    }
     if (target) {
         search_detail_ladder(source, model, settings, o.threads, *predictor, report, progress);
     } else if (!settings.detail.grid.empty()) {
