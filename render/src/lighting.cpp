@@ -197,12 +197,7 @@ RenderResult render_directional(const Brdf& material, const std::vector<Directio
     const SphereScene scene(options.width, options.height);
     const std::size_t width = options.width, height = options.height;
 
-    RenderResult result;
-    result.channels = rc.channels;
-    result.image.width = width;
-    result.image.height = height;
-    result.image.channels = 4;
-    result.image.pixels.assign(width * height * 4, 0.f);
+    RenderResult result = RenderResult::blank(rc.channels, width, height);
     std::atomic<std::uint64_t> hits{0}, dropped{0};
     std::atomic<std::size_t> rows_done{0};
     std::mutex progress_mutex;

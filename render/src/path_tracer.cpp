@@ -99,12 +99,7 @@ RenderResult render(const Brdf& material, const EnvironmentMap& environment, con
     const std::uint32_t spp = options.spp;
     const bool use_env = options.sampling != Sampling::Brdf, use_brdf = options.sampling != Sampling::Environment;
 
-    RenderResult result;
-    result.channels = rc.channels;
-    result.image.width = width;
-    result.image.height = height;
-    result.image.channels = 4;
-    result.image.pixels.assign(width * height * 4, 0.f);
+    RenderResult result = RenderResult::blank(rc.channels, width, height);
 
     std::atomic<std::size_t> rows_done{0};
     std::atomic<std::uint64_t> hits{0}, dropped{0};

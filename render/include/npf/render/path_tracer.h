@@ -73,6 +73,18 @@ struct RenderResult {
     color::FloatImage image;
     Channels channels;  // what the material was evaluated at (RGB or the quadrature wavelengths)
     RenderStats stats;
+
+    // A black, transparent image of the options' size, to be filled: one layout for every way
+    // of rendering (path tracing, delta lights).
+    static RenderResult blank(const Channels& channels, std::size_t width, std::size_t height) {
+        RenderResult r;
+        r.channels = channels;
+        r.image.width = width;
+        r.image.height = height;
+        r.image.channels = 4;
+        r.image.pixels.assign(width * height * 4, 0.f);
+        return r;
+    }
 };
 
 // Called with the fraction of rows done (0 .. 1), from the render's threads one at a time.
