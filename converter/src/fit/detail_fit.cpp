@@ -568,6 +568,7 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
     std::vector<std::vector<double>> rhs = sys.rhs;
     std::vector<std::vector<double>> solution(C, std::vector<double>(cells, 0.0));
     std::vector<double> last_gain(V * C, 0.0);
+    std::vector<double> albedo_after;  // the stored layer's albedo, clamp included, once measured
     // The model's albedo at each view ([views][channels]) by the energy rows' quadrature, its clamp
     // max(0, NPF + r) included.
     const auto clamped_albedo = [&] {
@@ -610,7 +611,8 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
 
         // What the clamp adds at each view: the stored layer's albedo, clamp included, minus its
         // linear part (the energy rows' own sums).
-        std::vector<double> gain = clamped_albedo();
+        albedo_after = clamped_albedo();
+        std::vector<double> gain = albedo_after;
         for (std::size_t v = 0; v < V; ++v) {
             for (std::size_t ch = 0; ch < C; ++ch) {
                 double linear = sys.albedo_base[v * C + ch];
@@ -626,7 +628,8 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
                 if (a > 0.0) moved = std::max(moved, std::fabs(gain[v * C + ch] - last_gain[v * C + ch]) / a);
             }
         }
-        if (moved < 5e-4) break;
+        if (moved < 5e-4) break;  // albedo_after is the stored layer's
+        albedo_after.clear();
         last_gain = gain;
         rhs = sys.rhs;
         for (std::size_t ch = 0; ch < C; ++ch) {
@@ -643,8 +646,9 @@ DetailReport fit_detail_layer(const Brdf& source, NpfModel& model, const DetailO
 
     // ---- What the stored layer achieves (clamp included) -----------------------------------------
     {
-        // Clamp included: the albedo the stored layer gives (npf albedo measures it independently).
-        const std::vector<double> albedo_after = V > 0 ? clamped_albedo() : std::vector<double>{};
+        // Clamp included: the albedo the stored layer gives (npf albedo measures it independently);
+        // measured already when the passes settled.
+        if (V > 0 && albedo_after.empty()) albedo_after = clamped_albedo();
         report.energy_error_after = sys.energy_error(albedo_after);
         const std::size_t sh = sys.theta_h.angle.size();
         const int sd = int(sys.theta_d.angle.size()), sp = int(sys.phi_d.angle.size()), se = sys.phi_h_samples;
