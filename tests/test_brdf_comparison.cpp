@@ -128,6 +128,9 @@ TEST(EvalAgainst, RefusesWhatItCannotCompare) {
     const npf::testing::ToolRun missing = npf::testing::run_tool({"eval", dir + "/a.bsdf", "--against", dir + "/nothing.bsdf"});
     EXPECT_EQ(missing.status, 1);
     EXPECT_NE(missing.err.find("nothing.bsdf"), std::string::npos) << missing.err;
+    const npf::testing::ToolRun pdf = npf::testing::run_tool({"eval", dir + "/a.bsdf", "--against", dir + "/a.bsdf", "--pdf"});
+    EXPECT_EQ(pdf.status, 1);
+    EXPECT_NE(pdf.err.find("--pdf: applies without --against only"), std::string::npos) << pdf.err;
     const npf::testing::ToolRun cap = npf::testing::run_tool({"eval", dir + "/a.bsdf", "--max-theta", "60"});
     EXPECT_EQ(cap.status, 1);
     EXPECT_NE(cap.err.find("--max-theta: applies with --against only"), std::string::npos) << cap.err;

@@ -45,16 +45,29 @@ BrdfComparisonResult BrdfComparison::result() const {
 }
 
 BrdfComparisonResult compare_brdfs(const Brdf& test, const Brdf& reference, const Channels& channels,
-                                   const std::vector<DirectionPair>& pairs, double max_theta_degrees) {
-    const ChannelQuery tq = test.query(channels), rq = reference.query(channels);
+                                   const std::function<bool(DirectionPair&)>& next, double max_theta_degrees,
+                                   bool keep_negative) {
+    ChannelQuery tq = test.query(channels), rq = reference.query(channels);
+    tq.clamp_negative = rq.clamp_negative = !keep_negative;
     std::vector<float> t(tq.size()), r(rq.size());
     BrdfComparison comparison(tq.size(), max_theta_degrees);
-    for (const DirectionPair& p : pairs) {
+    DirectionPair p;
+    while (next(p)) {
         test.eval_cos(p.wi, p.wo, tq, t.data());
         reference.eval_cos(p.wi, p.wo, rq, r.data());
         comparison.add(p.wi, p.wo, t.data(), r.data());
     }
     return comparison.result();
+}
+
+BrdfComparisonResult compare_brdfs(const Brdf& test, const Brdf& reference, const Channels& channels,
+                                   const std::vector<DirectionPair>& pairs, double max_theta_degrees, bool keep_negative) {
+    std::size_t i = 0;
+    return compare_brdfs(test, reference, channels, [&](DirectionPair& p) {
+        if (i == pairs.size()) return false;
+        p = pairs[i++];
+        return true;
+    }, max_theta_degrees, keep_negative);
 }
 
 namespace {

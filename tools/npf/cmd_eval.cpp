@@ -118,28 +118,20 @@ int run_comparison(const CommandLine& cl, const std::string& path, const Brdf& t
     const double max_theta = cl.has("--max-theta") ? parse_finite_number(cl.value("--max-theta"), "--max-theta") : 80.0;
     if (!(max_theta > 0.0 && max_theta <= 90.0)) throw Error("--max-theta", "must lie in (0, 90] degrees");
 
-    ChannelQuery tq = test.query(channels), rq = reference->query(channels);
-    tq.clamp_negative = rq.clamp_negative = !cl.has("--raw");
-    std::vector<float> t(tq.size()), r(rq.size());
-    BrdfComparison comparison(tq.size(), max_theta);
-    const auto add = [&](const Vec3& wi, const Vec3& wo) {
-        test.eval_cos(wi, wo, tq, t.data());
-        reference->eval_cos(wi, wo, rq, r.data());
-        comparison.add(wi, wo, t.data(), r.data());
-    };
+    const bool keep_negative = cl.has("--raw");
+    BrdfComparisonResult c;
     std::string pairs_text;
     if (cl.has("--dirs")) {
         const std::string dirs = cl.value("--dirs");
         std::unique_ptr<LineReader> reader = dirs == "-" ? std::make_unique<LineReader>(0, "<stdin>", kStreamTextBounds)
                                                          : std::make_unique<LineReader>(dirs, "a direction file", kStreamTextBounds);
-        Vec3 wi, wo;
-        while (next_pair(*reader, wi, wo)) add(wi, wo);
+        c = compare_brdfs(test, *reference, channels, [&](DirectionPair& p) { return next_pair(*reader, p.wi, p.wo); },
+                          max_theta, keep_negative);
         pairs_text = reader->name();
     } else {
-        for (const DirectionPair& p : held_out_pairs()) add(p.wi, p.wo);
+        c = compare_brdfs(test, *reference, channels, held_out_pairs(), max_theta, keep_negative);
         pairs_text = "held out (100 mirror, 100 near mirror, 300 cosine-weighted)";
     }
-    const BrdfComparisonResult c = comparison.result();
     if (c.used == 0) {
         char degrees[32];
         std::snprintf(degrees, sizeof degrees, "%g", max_theta);
@@ -213,7 +205,12 @@ int run_eval(const std::vector<std::string>& args) {
         brdf = open_material(path);
     }
 
-    if (cl.has("--against")) return run_comparison(cl, path, *brdf);
+    if (cl.has("--against")) {
+        for (const char* flag : {"--cos", "--pdf"}) {
+            if (cl.has(flag)) throw Error(flag, "applies without --against only (the comparison is of f_r cos(theta_o))");
+        }
+        return run_comparison(cl, path, *brdf);
+    }
     if (cl.has("--max-theta")) throw Error("--max-theta", "applies with --against only");
 
     Channels channels = brdf->info().channels;

@@ -11,6 +11,7 @@
 #include <npf/core/vec.h>
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -53,9 +54,15 @@ private:
     double m_worst_difference = -1.0;
 };
 
-// Both materials at `pairs`, every channel of `channels` (each must provide them: npf::Error).
+// Both materials at `pairs`, every channel of `channels` (each must provide them: npf::Error);
+// negative values clamped to 0 as evaluation does by default, or kept (npf eval --raw).
 BrdfComparisonResult compare_brdfs(const Brdf& test, const Brdf& reference, const Channels& channels,
-                                   const std::vector<DirectionPair>& pairs, double max_theta_degrees = 80.0);
+                                   const std::vector<DirectionPair>& pairs, double max_theta_degrees = 80.0,
+                                   bool keep_negative = false);
+// The same at each pair `next` writes until it returns false: a stream of any length.
+BrdfComparisonResult compare_brdfs(const Brdf& test, const Brdf& reference, const Channels& channels,
+                                   const std::function<bool(DirectionPair&)>& next, double max_theta_degrees = 80.0,
+                                   bool keep_negative = false);
 
 // The held-out pairs npf convert measures a conversion at, fixed once for all (the same on every
 // machine: no library random distribution): 500 pairs with both directions within 80 degrees,
