@@ -133,27 +133,25 @@ int run_convert(const std::vector<std::string>& args) {
     std::printf("  energy      directional albedo within %.2f %% of the source's at 0..80 deg (worst at %.0f deg, %s)\n",
                 100.0 * r.energy_error, r.energy_error_theta_deg, r.channels.name(r.energy_error_channel).c_str());
     if (r.predicted) {
-        char floor[64] = "";
-        if (std::isinf(r.prediction.floor_psnr)) {
-            std::snprintf(floor, sizeof floor, " (no noise floor: no Monte Carlo)");
-        } else if (r.prediction.floor_psnr != 0.0) {
-            std::snprintf(floor, sizeof floor, " (noise floor %.2f dB%s)", r.prediction.floor_psnr,
-                          r.prediction.noise_limited ? ", noise-limited" : "");
-        }
+        // " (noise floor ...)" after a PSNR: none where not measured, infinite for a render with no samples.
+        const auto floor_text = [](double floor_psnr, bool noise_limited) {
+            char text[64] = "";
+            if (std::isinf(floor_psnr)) std::snprintf(text, sizeof text, " (no noise floor: no Monte Carlo)");
+            else if (floor_psnr != 0.0)
+                std::snprintf(text, sizeof text, " (noise floor %.2f dB%s)", floor_psnr, noise_limited ? ", noise-limited" : "");
+            return std::string(text);
+        };
         if (r.prediction.lightings.size() > 1) {
             // A set: one line per lighting, then the worst, which is what a target meets.
             for (const LightingPrediction& l : r.prediction.lightings) {
-                char lf[64] = "";
-                if (std::isinf(l.floor_psnr)) std::snprintf(lf, sizeof lf, " (no noise floor: no Monte Carlo)");
-                else if (l.floor_psnr != 0.0)
-                    std::snprintf(lf, sizeof lf, " (noise floor %.2f dB%s)", l.floor_psnr, l.noise_limited ? ", noise-limited" : "");
-                std::printf("  predicted   %-12s %.2f dB%s\n", l.lighting.c_str(), l.psnr, lf);
+                std::printf("  predicted   %-12s %.2f dB%s\n", l.lighting.c_str(), l.psnr,
+                            floor_text(l.floor_psnr, l.noise_limited).c_str());
             }
             std::printf("  predicted   render PSNR %.2f dB against the source, the worst (%s); %s\n", r.prediction.psnr,
                         r.prediction.worst.c_str(), r.prediction_settings.c_str());
         } else {
-            std::printf("  predicted   render PSNR %.2f dB against the source%s; %s\n", r.prediction.psnr, floor,
-                        r.prediction_settings.c_str());
+            std::printf("  predicted   render PSNR %.2f dB against the source%s; %s\n", r.prediction.psnr,
+                        floor_text(r.prediction.floor_psnr, r.prediction.noise_limited).c_str(), r.prediction_settings.c_str());
         }
     }
     if (s.target_psnr > 0.0) {
