@@ -74,6 +74,32 @@ TEST(BatchConfig, ReadsInputsDefaultsAndOverrides) {
     EXPECT_TRUE(c.warnings.empty());
 }
 
+// The validation renders' lightings: render.env (names as they are, maps from the
+// configuration's folder), else the conversion's `light` set, else the built-in set.
+TEST(BatchConfig, RenderLightingsComeFromEnvThenLightThenTheBuiltInSet) {
+    npf::testing::write_text(inputs_dir() + "/dusk map.exr", "x");  // checked for existence only here
+    const batch::BatchConfig c = parse("output_dir: out\ninputs: ['*.bsdf']\ndefaults: {render: true}\n"
+                                       "materials:\n"
+                                       "  a: {render: {env: [directional, dusk map.exr]}}\n"
+                                       "  b: {light: 'key-rim,studio'}\n");
+    ASSERT_EQ(c.materials.size(), 2u);
+    EXPECT_EQ(batch::resolve_render_check(c.materials[0].settings).lightings,
+              (std::vector<std::string>{"directional", inputs_dir() + "/dusk map.exr"}));
+    EXPECT_EQ(batch::resolve_render_check(c.materials[1].settings).lightings, (std::vector<std::string>{"key-rim", "studio"}));
+    const batch::BatchConfig d = parse("output_dir: out\ninputs: a.bsdf\ndefaults: {render: {env: ' studio , key-rim'}}\n");
+    EXPECT_EQ(batch::resolve_render_check(d.materials[0].settings).lightings, (std::vector<std::string>{"studio", "key-rim"}));
+    const batch::BatchConfig e = parse("output_dir: out\ninputs: a.bsdf\ndefaults: {render: true}\n");
+    EXPECT_EQ(batch::resolve_render_check(e.materials[0].settings).lightings,
+              (std::vector<std::string>{"studio", "key-rim", "directional"}));
+    const std::string missing = error_of("output_dir: out\ninputs: a.bsdf\ndefaults:\n  render: {env: [studio, nowhere.exr]}\n");
+    EXPECT_TRUE(contains(missing, "cfg.yaml:4: key 'defaults.render.env': ")) << missing;
+    EXPECT_TRUE(contains(missing, "nowhere.exr")) << missing;
+    EXPECT_TRUE(contains(error_of("output_dir: out\ninputs: a.bsdf\ndefaults:\n  render: {env: 'studio,,key-rim'}\n"),
+                         "an empty lighting in the list"));
+    EXPECT_TRUE(contains(error_of("output_dir: out\ninputs: a.bsdf\ndefaults:\n  render: {env: [studio, studio]}\n"),
+                         "given twice"));
+}
+
 TEST(BatchConfig, SettingsResolveAsTheConvertFlagsDo) {
     const batch::BatchConfig c = parse("output_dir: out\ninputs: a.bsdf\n"
                                        "defaults: {preset: preview, grid: '20,1,18,36', g_grid: [18, 1], pca: [0.9, 0.8],\n"

@@ -248,7 +248,8 @@ TEST(BatchHostile, ALinkAtTheLockIsRefused) {
     EXPECT_EQ(tree_of(dir, "out"), before);
 }
 
-const char* const kRenderSettings = "  render: {size: 16, spp: 1, threads: 1}\n";
+// One lighting: the renders' hostile names are the same under each.
+const char* const kRenderSettings = "  render: {size: 16, spp: 1, threads: 1, env: studio}\n";
 
 // A link at `renders/`: the validation renders went into its target.
 TEST(BatchHostile, ALinkAtTheRendersFolderIsRefusedBeforeAnyWork) {
@@ -273,17 +274,17 @@ TEST(BatchHostile, ALinkAtARenderIsRefused) {
     write_victim(dir + "/victim");
     write_text(dir + "/victim/render.exr", "not a render");
     fs::create_directories(dir + "/out/renders");
-    fs::create_symlink("../../victim/render.exr", dir + "/out/renders/glossy.npf.exr");
+    fs::create_symlink("../../victim/render.exr", dir + "/out/renders/glossy.studio.npf.exr");
     const std::string cfg = write_batch_config(dir + "/b.yaml", dir + "/in", dir + "/out", kRenderSettings);
     const auto before = tree_of(dir, "out");
     const ToolRun r = run({"batch", cfg});
     EXPECT_EQ(r.status, 4) << describe(r);
     EXPECT_TRUE(contains(reason_of(dir + "/out/batch-summary.json", "glossy"),
-                         dir + "/out/renders/glossy.npf.exr: is a symbolic link (to ../../victim/render.exr): a file npf batch "
+                         dir + "/out/renders/glossy.studio.npf.exr: is a symbolic link (to ../../victim/render.exr): a file npf batch "
                                "owns is never followed; remove it"))
         << describe(r);
     EXPECT_EQ(tree_of(dir, "out"), before);
-    EXPECT_TRUE(fs::is_symlink(dir + "/out/renders/glossy.npf.exr"));
+    EXPECT_TRUE(fs::is_symlink(dir + "/out/renders/glossy.studio.npf.exr"));
 }
 
 // The default summary is a name of the batch's own choosing: a link there is refused before any
@@ -681,9 +682,9 @@ TEST(BatchHostile, AnInputThatIsAHardLinkToTheSummaryIsRefused) {
 TEST(BatchHostile, AnInputThatIsAHardLinkToARenderIsRefused) {
     const std::string dir = library("batch-hostile-hard-render", {"glossy"});
     fs::create_directories(dir + "/out/renders");
-    write_text(dir + "/out/renders/glossy.npf.exr", "an earlier render");
-    fs::create_hard_link(dir + "/out/renders/glossy.npf.exr", dir + "/in/r.bsdf");
-    expect_refused(dir, kRenderSettings, "DIR/out/renders/glossy.npf.exr: is the same file as DIR/in/r.bsdf (the input of 'r' and a "
+    write_text(dir + "/out/renders/glossy.studio.npf.exr", "an earlier render");
+    fs::create_hard_link(dir + "/out/renders/glossy.studio.npf.exr", dir + "/in/r.bsdf");
+    expect_refused(dir, kRenderSettings, "DIR/out/renders/glossy.studio.npf.exr: is the same file as DIR/in/r.bsdf (the input of 'r' and a "
                                          "validation render of 'glossy'): the output would replace an input");
 }
 

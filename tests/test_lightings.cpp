@@ -288,8 +288,8 @@ TEST(LightingsCli, BatchTakesLightingNames) {
                                                       "  render: {size: 16, spp: 2, threads: 2, env: key-rim}\n");
     const ToolRun r = npf::testing::run_tool({"batch", dir + "/batch.yaml"});
     ASSERT_EQ(r.status, 0) << describe(r);
-    EXPECT_EQ(attribute(dir + "/out/renders/lobe.npf.exr", "npf:lighting"), "key-rim");
-    EXPECT_EQ(attribute(dir + "/out/renders/lobe.npf.exr", "npf:envmap"), "key-rim");
+    EXPECT_EQ(attribute(dir + "/out/renders/lobe.key-rim.npf.exr", "npf:lighting"), "key-rim");
+    EXPECT_EQ(attribute(dir + "/out/renders/lobe.key-rim.npf.exr", "npf:envmap"), "key-rim");
     const npf::NpfModel m = npf::read_npf_texture(dir + "/out/lobe.exr");
     bool key_rim = false, studio = false;
     for (const auto& [k, v] : m.metadata) {

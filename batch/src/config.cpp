@@ -114,6 +114,39 @@ struct Reader : YamlContext {
         return out;
     }
 
+    // A lighting or a list of them ("key-rim", "[studio, maps/dusk.exr]", "studio,directional"):
+    // built-in names (render/lighting.h) as they are, map files from the configuration's folder.
+    std::string lightings(const YAML::Node& node, const std::string& key) const {
+        const std::vector<std::string>& names = render::builtin_lighting_names();
+        // Items as written (a map's path may hold blanks), trimmed.
+        std::vector<std::string> items;
+        if (node.IsSequence() && node.size() > 0) {
+            for (const YAML::Node& item : node) items.push_back(scalar(item, key));
+        } else {
+            const std::string given = scalar(node, key);
+            for (std::size_t start = 0; start <= given.size();) {
+                const std::size_t comma = std::min(given.find(',', start), given.size());
+                items.push_back(given.substr(start, comma - start));
+                start = comma + 1;
+            }
+        }
+        std::string out;
+        for (std::string item : items) {
+            const std::size_t a = item.find_first_not_of(" \t"), b = item.find_last_not_of(" \t");
+            item = a == std::string::npos ? "" : item.substr(a, b - a + 1);
+            if (item.empty()) fail(node, key, "an empty lighting in the list");
+            if (item.find('\0') != std::string::npos) fail(node, key, "path holds a NUL byte");
+            if (std::find(names.begin(), names.end(), item) == names.end()) item = absolute(item);
+            out += (out.empty() ? "" : ",") + item;
+        }
+        try {
+            render::parse_lighting_list(out, key);  // each a name or an existing file, none twice
+        } catch (const Error& e) {
+            fail(node, key, e.problem());
+        }
+        return out;
+    }
+
     // Settings of a `defaults` or `materials.NAME` mapping (other keys are left to the caller).
     void settings(const YAML::Node& map, const std::string& prefix, Settings& out) const {
         for (const auto& kv : map) {
@@ -138,11 +171,7 @@ struct Reader : YamlContext {
                     const std::string rk = r.first.Scalar(), name = "render." + rk;
                     const std::string ro = where(r.first);
                     if (rk == "env") {
-                        // A built-in lighting's name (render/lighting.h) as it is; else a map's path.
-                        const std::vector<std::string>& names = render::builtin_lighting_names();
-                        const bool named = r.second.IsScalar() &&
-                                           std::find(names.begin(), names.end(), r.second.Scalar()) != names.end();
-                        out[name] = {named ? r.second.Scalar() : path(r.second, full + "." + rk), ro};
+                        out[name] = {lightings(r.second, full + "." + rk), ro};
                     } else {
                         const std::string value = scalar(r.second, full + "." + rk);
                         check_value(ro, full + "." + rk, name, value);
@@ -342,7 +371,9 @@ RenderCheck resolve_render_check(const Settings& s) {
     if (const auto i = s.find("render.spp"); i != s.end()) r.spp = std::uint32_t(std::atol(i->second.value.c_str()));
     if (const auto i = s.find("render.seed"); i != s.end()) r.seed = std::uint64_t(std::atol(i->second.value.c_str()));
     if (const auto i = s.find("render.threads"); i != s.end()) r.threads = unsigned(std::atol(i->second.value.c_str()));
-    if (const auto i = s.find("render.env"); i != s.end()) r.env = i->second.value;
+    if (const auto i = s.find("render.env"); i != s.end()) r.lightings = render::parse_lighting_list(i->second.value, "render.env");
+    else if (const auto l = s.find("light"); l != s.end()) r.lightings = render::parse_lighting_list(l->second.value, "light");
+    else r.lightings = render::builtin_lighting_names();
     return r;
 }
 

@@ -34,6 +34,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -124,11 +125,12 @@ void fill_from_header(MaterialResult& r, const std::map<std::string, std::string
     }
 }
 
-void fill_from_render_header(MaterialResult& r, const std::map<std::string, std::string>& h) {
-    r.psnr = attr_number(h, "npf:batch_psnr");
-    r.psnr_floor = attr_number(h, "npf:batch_psnr_floor");
-    r.ssim = attr_number(h, "npf:batch_ssim");
-    r.relmse = attr_number(h, "npf:batch_relmse");
+// One lighting's figures, from its npf render's header (a figure that is not there: infinite
+// PSNR and floor, as a pair that agrees exactly).
+LightingCheck lighting_check_of(const std::string& label, const std::map<std::string, std::string>& h) {
+    const double inf = std::numeric_limits<double>::infinity();
+    return {label, attr_number(h, "npf:batch_psnr").value_or(inf), attr_number(h, "npf:batch_psnr_floor").value_or(inf),
+            attr_number(h, "npf:batch_ssim").value_or(1.0), attr_number(h, "npf:batch_relmse").value_or(0.0)};
 }
 
 // The tool named in messages about the places it owns.
@@ -200,9 +202,22 @@ void publish_finished(BatchFolders& folders, const std::string& name, const std:
     }
 }
 
-std::string render_file(const MaterialJob& job, const char* kind) {
+// A lighting's part of a render's file name: a built-in name as it is, a map file's stem with
+// anything but letters, digits, '-' and '_' as '_' (two maps of one stem are two uses of one
+// file name, refused by check_batch_files).
+std::string lighting_tag(const std::string& lighting) {
+    const std::vector<std::string>& names = render::builtin_lighting_names();
+    if (std::find(names.begin(), names.end(), lighting) != names.end()) return lighting;
+    std::string tag = fs::path(lighting).stem().string();
+    for (char& c : tag)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
+    return tag.empty() ? "map" : tag;
+}
+
+// renders/NAME.LIGHTING.reference.exr and .npf.exr beside the output.
+std::string render_file(const MaterialJob& job, const std::string& lighting, const char* kind) {
     const fs::path out(job.output);
-    return (out.parent_path() / "renders" / (out.stem().string() + "." + kind + ".exr")).string();
+    return (out.parent_path() / "renders" / (out.stem().string() + "." + lighting_tag(lighting) + "." + kind + ".exr")).string();
 }
 
 std::string fmt(const char* format, double v) {
@@ -228,24 +243,18 @@ std::string hash_text(const MaterialJob& job, bool source_isotropic, const std::
     return sha256_hex(t);
 }
 
-// The lighting of the validation renders: a map file, or a built-in name (render/lighting.h;
-// "studio" is the shipped map's file).
-std::string render_lighting_of(const RenderCheck& check) {
-    return check.env.empty() || check.env == "studio" ? render::default_environment_map_path() : check.env;
-}
-
-bool procedural_lighting(const std::string& lighting) {
-    const std::vector<std::string>& names = render::builtin_lighting_names();
-    return std::find(names.begin(), names.end(), lighting) != names.end();
-}
-
+// The hash every validation render of a material is stamped with: the material's, the render
+// settings and each lighting (a map by its bytes; a built-in one by its name: its geometry is
+// this build's, and the material hash names the build).
 std::string render_hash_of(const std::string& material_hash, const RenderCheck& check) {
-    const std::string env = render_lighting_of(check);
-    // A procedural lighting has no file: its name stands for it (its geometry is this build's,
-    // and the material hash names the build).
-    const std::string light = procedural_lighting(env) ? "lighting " + env : sha256_file(env);
-    return sha256_hex(material_hash + "\nrender size=" + std::to_string(check.size) + " spp=" + std::to_string(check.spp) +
-                      " seed=" + std::to_string(check.seed) + " sampling=env floor=paired\nenv " + light + "\n");
+    std::string text = material_hash + "\nrender size=" + std::to_string(check.size) + " spp=" + std::to_string(check.spp) +
+                       " seed=" + std::to_string(check.seed) + " sampling=env floor=paired\n";
+    const std::vector<std::string>& names = render::builtin_lighting_names();
+    for (const std::string& l : check.lightings) {
+        const bool named = std::find(names.begin(), names.end(), l) != names.end();
+        text += "env " + (named ? "lighting " + l : sha256_file(l)) + "\n";
+    }
+    return sha256_hex(text);
 }
 
 // How a material is processed: in this process, or in a worker whose finished files the parent
@@ -337,67 +346,76 @@ bool own_regular_file(const std::string& path) {
     return fs::symlink_status(path, ec).type() == fs::file_type::regular;
 }
 
-std::optional<std::map<std::string, std::string>> render_header_of(const MaterialJob& job) {
-    const std::string path = render_file(job, "npf");
-    if (!own_regular_file(path)) return std::nullopt;
-    return header_of(path, false);
+// The figures of the material's validation renders when every lighting's pair is there and
+// stamped with `render_hash`; nothing when any is missing or older.
+std::optional<std::vector<LightingCheck>> renders_up_to_date(const MaterialJob& job, const RenderCheck& check,
+                                                             const std::string& render_hash) {
+    std::vector<LightingCheck> checks;
+    for (const std::string& l : check.lightings) {
+        const std::string path = render_file(job, l, "npf");
+        if (!own_regular_file(path) || !own_regular_file(render_file(job, l, "reference"))) return std::nullopt;
+        const auto header = header_of(path, false);
+        if (!header || !header->count("npf:batch_hash") || header->at("npf:batch_hash") != render_hash) return std::nullopt;
+        checks.push_back(lighting_check_of(render::lighting_label(l), *header));
+    }
+    return checks;
 }
 
-// Whether the material's validation renders are those of `render_hash`.
-bool renders_up_to_date(const MaterialJob& job, const std::optional<std::map<std::string, std::string>>& header,
-                        const std::string& render_hash) {
-    return header && header->count("npf:batch_hash") && header->at("npf:batch_hash") == render_hash &&
-           own_regular_file(render_file(job, "reference"));
-}
-
-// Renders the source and its output (`output`, where it can be read now) as `check` says, paired
-// (docs/metrics.md sec. 5): environment sampling only at one seed, so both images are estimated
-// at the same light directions; the pair again at the next seed gives the PSNR's noise floor.
-// Publishes both renders, stamped with `render_hash`, and fills the result's metrics.
+// Renders the source and its output (`output`, where it can be read now) under each lighting of
+// `check`, paired (docs/metrics.md sec. 5): maps with environment sampling only at one seed, so
+// both images are estimated at the same light directions, the pair again at the next seed for
+// the PSNR's noise floor; directional lights once, with no noise. Publishes each lighting's
+// renders, stamped with `render_hash`, and fills the result's metrics (the worst lighting's).
 void render_and_compare(const MaterialJob& job, const Brdf& source, const std::string& output, const RenderCheck& check,
                         const std::string& render_hash, MaterialContext& ctx, MaterialResult& r) {
-    const std::string env_path = render_lighting_of(check);
-    auto it = ctx.environments.find(env_path);
-    if (it == ctx.environments.end()) it = ctx.environments.emplace(env_path, render::make_lighting(env_path, "render.env")).first;
-    render::RenderOptions ro;
-    ro.width = ro.height = check.size;
-    ro.spp = check.spp;
-    ro.seed = check.seed;
-    ro.threads = check.threads;
-    ro.sampling = render::Sampling::Environment;
     const std::unique_ptr<Brdf> fitted = open_material(output);
-    const render::RenderResult reference = render::render(source, it->second, ro);
-    const render::RenderResult test = render::render(*fitted, it->second, ro);
-    render::RenderOptions ro2 = ro;
-    ro2.seed = check.seed + 1;
-    const render::RenderResult reference2 = render::render(source, it->second, ro2);
-    const render::RenderResult test2 = render::render(*fitted, it->second, ro2);
-    const render::ImageMetrics metrics = render::compare_images(reference.image, test.image, {}, "reference", "npf");
-    const render::NoiseFloor floor =
-        render::paired_noise_floor(reference.image, test.image, reference2.image, test2.image, {}, "reference", "npf");
-    r.psnr = metrics.psnr, r.ssim = metrics.ssim, r.relmse = metrics.relmse;
-    r.psnr_floor = floor.psnr;
-    render::RenderMetadata ref_meta = render::describe_render(reference, ro, it->second);
-    ref_meta.insert(ref_meta.begin(), {"npf:material", job.input});
-    ref_meta.emplace_back("npf:batch_hash", render_hash);
-    render::RenderMetadata npf_meta = render::describe_render(test, ro, it->second);
-    npf_meta.insert(npf_meta.begin(), {"npf:material", job.output});
-    npf_meta.emplace_back("npf:batch_hash", render_hash);
-    npf_meta.emplace_back("npf:batch_psnr", fmt("%.9g", metrics.psnr));
-    npf_meta.emplace_back("npf:batch_psnr_floor", fmt("%.9g", floor.psnr));
-    npf_meta.emplace_back("npf:batch_ssim", fmt("%.9g", metrics.ssim));
-    npf_meta.emplace_back("npf:batch_relmse", fmt("%.9g", metrics.relmse));
-    const std::string ref_name = job.name + ".reference.exr", npf_name = job.name + ".npf.exr";
-    // Staged as the batch's own files: a link at the name is refused.
-    const auto stage = [&ctx](const std::string& name, const render::RenderResult& image, const render::RenderMetadata& meta) {
-        AtomicOutput staged(ctx.staged(name), OutputOptions{kOwner, ctx.stage->path_of(name)});
-        render::write_render_exr(staged, image, meta);
-        staged.commit();
-    };
-    stage(ref_name, reference, ref_meta);
-    stage(npf_name, test, npf_meta);
-    ctx.publish(ref_name, render_file(job, "reference"), true);
-    ctx.publish(npf_name, render_file(job, "npf"), true);  // last: its hash says both are done
+    r.lightings.clear();
+    for (const std::string& name : check.lightings) {
+        auto it = ctx.environments.find(name);
+        if (it == ctx.environments.end()) it = ctx.environments.emplace(name, render::make_lighting(name, "render.env")).first;
+        const render::Lighting& lighting = it->second;
+        render::RenderOptions ro;
+        ro.width = ro.height = check.size;
+        ro.spp = check.spp * lighting.spp_factor;  // as the prediction: more where the floor is near
+        ro.seed = check.seed;
+        ro.threads = check.threads;
+        ro.sampling = render::Sampling::Environment;
+        const render::RenderResult reference = render::render(source, lighting, ro);
+        const render::RenderResult test = render::render(*fitted, lighting, ro);
+        const render::ImageMetrics metrics = render::compare_images(reference.image, test.image, {}, "reference", "npf");
+        double floor = std::numeric_limits<double>::infinity();  // directional: no samples, no noise
+        if (!lighting.directional()) {
+            render::RenderOptions ro2 = ro;
+            ro2.seed = check.seed + 1;
+            floor = render::paired_noise_floor(reference.image, test.image, render::render(source, lighting, ro2).image,
+                                               render::render(*fitted, lighting, ro2).image, {}, "reference", "npf")
+                        .psnr;
+        }
+        r.lightings.push_back({lighting.label(), metrics.psnr, floor, metrics.ssim, metrics.relmse});
+        render::RenderMetadata ref_meta = render::describe_render(reference, ro, lighting);
+        ref_meta.insert(ref_meta.begin(), {"npf:material", job.input});
+        ref_meta.emplace_back("npf:batch_hash", render_hash);
+        render::RenderMetadata npf_meta = render::describe_render(test, ro, lighting);
+        npf_meta.insert(npf_meta.begin(), {"npf:material", job.output});
+        npf_meta.emplace_back("npf:batch_hash", render_hash);
+        npf_meta.emplace_back("npf:batch_psnr", fmt("%.9g", metrics.psnr));
+        npf_meta.emplace_back("npf:batch_psnr_floor", fmt("%.9g", floor));
+        npf_meta.emplace_back("npf:batch_ssim", fmt("%.9g", metrics.ssim));
+        npf_meta.emplace_back("npf:batch_relmse", fmt("%.9g", metrics.relmse));
+        const std::string tag = lighting_tag(name);
+        const std::string ref_name = job.name + "." + tag + ".reference.exr", npf_name = job.name + "." + tag + ".npf.exr";
+        // Staged as the batch's own files: a link at the name is refused.
+        const auto stage = [&ctx](const std::string& file, const render::RenderResult& image, const render::RenderMetadata& meta) {
+            AtomicOutput staged(ctx.staged(file), OutputOptions{kOwner, ctx.stage->path_of(file)});
+            render::write_render_exr(staged, image, meta);
+            staged.commit();
+        };
+        stage(ref_name, reference, ref_meta);
+        stage(npf_name, test, npf_meta);
+        ctx.publish(ref_name, render_file(job, name, "reference"), true);
+        ctx.publish(npf_name, render_file(job, name, "npf"), true);  // last: its hash says the pair is done
+    }
+    r.judge_by_worst_lighting();
 }
 
 // One material: checked against its output's hash, converted, edited, stamped, written, and
@@ -423,12 +441,12 @@ MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
         const bool up_to_date = !ctx.force && header && header->count(m + npf_exr::kMetaBatchHash) &&
                                 header->at(m + npf_exr::kMetaBatchHash) == r.hash;
         std::string render_hash;
-        std::optional<std::map<std::string, std::string>> render_header;
+        std::optional<std::vector<LightingCheck>> rendered;  // the renders there, when up to date
         if (check.enabled) {
             render_hash = render_hash_of(r.hash, check);
-            render_header = render_header_of(job);
+            rendered = renders_up_to_date(job, check, render_hash);
         }
-        const bool render_up_to_date = !check.enabled || (up_to_date && renders_up_to_date(job, render_header, render_hash));
+        const bool render_up_to_date = !check.enabled || (up_to_date && rendered);
 
         std::string output = job.output;  // where the output is read from below
         if (!up_to_date) {
@@ -458,8 +476,9 @@ MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
         if (check.enabled && !render_up_to_date) {
             render_and_compare(job, *source, output, check, render_hash, ctx, r);
             if (r.status == MaterialStatus::Skipped) r.reason = "validation render redone";
-        } else if (check.enabled && render_header) {
-            fill_from_render_header(r, *render_header);
+        } else if (check.enabled && rendered) {
+            r.lightings = *rendered;
+            r.judge_by_worst_lighting();
         }
     } catch (const std::bad_alloc&) {
         r.status = MaterialStatus::Failed;
@@ -494,9 +513,10 @@ std::optional<MaterialResult> up_to_date_result(const MaterialJob& job, int shar
         r.hash = stored;
         const RenderCheck check = resolve_render_check(job.settings);
         if (check.enabled) {
-            const auto render_header = render_header_of(job);
-            if (!renders_up_to_date(job, render_header, render_hash_of(stored, check))) return std::nullopt;
-            fill_from_render_header(r, *render_header);
+            const auto rendered = renders_up_to_date(job, check, render_hash_of(stored, check));
+            if (!rendered) return std::nullopt;
+            r.lightings = *rendered;
+            r.judge_by_worst_lighting();
         }
         // As open_material's file_bytes: 0 for an analytic recipe (chosen by its name).
         r.input_bytes = ends_with(job.input, ".yaml") || ends_with(job.input, ".yml") ? 0 : file_size(job.input);
@@ -578,7 +598,10 @@ MaterialResult take_answer(const MaterialJob& job, BatchFolders& folders, const 
     std::vector<std::tuple<std::string, std::string, bool>> to_move;  // staged name, final, a render
     for (const YAML::Node& m : list) {
         const std::string name = m[0].as<std::string>(), to = m[1].as<std::string>();
-        const bool render = to == render_file(job, "reference") || to == render_file(job, "npf");
+        const RenderCheck check = resolve_render_check(job.settings);
+        bool render = false;
+        for (const std::string& l : check.lightings)
+            render = render || to == render_file(job, l, "reference") || to == render_file(job, l, "npf");
         if ((to != job.output && !render) || name.empty() || name.find('/') != std::string::npos)
             throw Error(stage.path_of(moves), "lists a file that is not one of this material's: " + name + " -> " + to);
         to_move.emplace_back(name, to, render);
@@ -701,7 +724,9 @@ void check_batch_files(const BatchConfig& config, const std::string& summary_bas
     for (const MaterialJob& m : config.materials) {
         uses.push_back({m.output, "the output of '" + m.name + "'", true});
         if (!resolve_render_check(m.settings).enabled) continue;
-        for (const char* kind : {"reference", "npf"}) uses.push_back({render_file(m, kind), "a validation render of '" + m.name + "'", true});
+        for (const std::string& l : resolve_render_check(m.settings).lightings)
+            for (const char* kind : {"reference", "npf"})
+                uses.push_back({render_file(m, l, kind), "a validation render of '" + m.name + "'", true});
     }
     if (!summary_base.empty()) {
         uses.push_back({summary_base + ".json", "the summary", true});
@@ -723,9 +748,17 @@ std::string progress_line(const std::string& counter, const MaterialResult& r) {
         if (r.output_bytes) line += ", " + fmt("%.3f MB", double(r.output_bytes) / 1e6);
         if (r.ratio()) line += " (1/" + fmt("%.1f", *r.ratio()) + ")";
         if (r.error_mean) line += ", error " + fmt("%.2f %%", 100.0 * *r.error_mean);
+        // "PSNR 47.10 dB, the worst of studio 55.02 (floor 63.10), key-rim 50.21 (floor 64.02), directional 47.10"
         if (r.psnr) {
-            line += ", PSNR " + fmt("%.2f dB", *r.psnr);
-            if (r.psnr_floor) line += " (noise floor " + fmt("%.2f dB", *r.psnr_floor) + ")";
+            const auto db = [](double v) { return std::isfinite(v) ? fmt("%.2f", v) : std::string("inf"); };
+            line += ", PSNR " + db(*r.psnr) + " dB";
+            std::string each;
+            for (const LightingCheck& c : r.lightings) {
+                each += (each.empty() ? "" : ", ") + c.lighting + " " + db(c.psnr);
+                if (std::isfinite(c.psnr_floor)) each += " (floor " + db(c.psnr_floor) + ")";
+            }
+            if (r.lightings.size() > 1) line += ", the worst of " + each;
+            else if (r.psnr_floor) line += " (noise floor " + db(*r.psnr_floor) + " dB)";
         }
         if (!r.reason.empty()) line += " (" + r.reason + ")";
     }

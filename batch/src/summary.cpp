@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -25,6 +26,8 @@ std::string fixed(double v, int digits) {
     std::snprintf(b, sizeof b, "%.*f", digits, v);
     return b;
 }
+
+std::string decibels(double v) { return std::isfinite(v) ? fixed(v, 2) : "inf"; }
 
 std::string megabytes(std::uint64_t bytes) { return fixed(double(bytes) / 1e6, 3); }
 
@@ -52,6 +55,14 @@ const char* status_name(MaterialStatus s) {
     case MaterialStatus::Failed: return "failed";
     }
     return "?";
+}
+
+void MaterialResult::judge_by_worst_lighting() {
+    const LightingCheck* worst = nullptr;
+    for (const LightingCheck& c : lightings)
+        if (!worst || c.psnr < worst->psnr) worst = &c;
+    if (!worst) return;
+    psnr = worst->psnr, psnr_floor = worst->psnr_floor, ssim = worst->ssim, relmse = worst->relmse;
 }
 
 std::optional<double> MaterialResult::ratio() const {
@@ -98,6 +109,14 @@ std::string summary_json(const BatchSummary& s) {
         j += ", \"albedo_max\": " + opt(m.albedo_max);
         j += ", \"psnr\": " + opt(m.psnr) + ", \"psnr_floor\": " + opt(m.psnr_floor) + ", \"ssim\": " + opt(m.ssim) +
              ", \"relmse\": " + opt(m.relmse);
+        j += ", \"lightings\": [";
+        for (std::size_t l = 0; l < m.lightings.size(); ++l) {
+            const LightingCheck& c = m.lightings[l];
+            j += std::string(l ? ", " : "") + "{\"lighting\": " + json_string(c.lighting) + ", \"psnr\": " + json_number(c.psnr) +
+                 ", \"psnr_floor\": " + json_number(c.psnr_floor) + ", \"ssim\": " + json_number(c.ssim) +
+                 ", \"relmse\": " + json_number(c.relmse) + "}";
+        }
+        j += "]";
         j += ", \"edits\": [";
         for (std::size_t e = 0; e < m.edits.size(); ++e) j += (e ? ", " : "") + json_string(m.edits[e]);
         j += "], \"hash\": " + json_string(m.hash) + "}";
@@ -121,16 +140,20 @@ std::string summary_markdown(const BatchSummary& s) {
     md += "- wall time: " + fixed(s.seconds, 2) + " s\n";
     md += std::string("- result: ") + (s.ok() ? "**ok**" : "**some materials failed**") + "\n";
     for (const std::string& w : s.warnings) md += "- warning: " + cell(w) + "\n";
-    md += "\n| material | status | time (s) | input (MB) | output (MB) | ratio | error mean / worst (%) | PSNR (dB) | noise floor (dB) | SSIM | note |\n";
-    md += "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
+    md += "\n| material | status | time (s) | input (MB) | output (MB) | ratio | error mean / worst (%) | PSNR, worst lighting (dB) | noise floor (dB) | SSIM | per lighting: PSNR / floor (dB) | note |\n";
+    md += "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
     for (const MaterialResult& m : s.materials) {
         md += "| " + cell(m.name) + " | " + status_name(m.status) + " | " + fixed(m.seconds, 2) + " | ";
         md += (m.input_bytes ? megabytes(m.input_bytes) : "-") + " | " + (m.output_bytes ? megabytes(m.output_bytes) : "-") + " | ";
         md += (m.ratio() ? "1/" + fixed(*m.ratio(), 1) : "-") + " | ";
         md += (m.error_mean ? fixed(100.0 * *m.error_mean, 2) + " / " + fixed(100.0 * m.error_max.value_or(0.0), 2) : "-") + " | ";
-        md += (m.psnr ? (std::isfinite(*m.psnr) ? fixed(*m.psnr, 2) : "inf") : "-") + " | ";
-        md += (m.psnr_floor ? (std::isfinite(*m.psnr_floor) ? fixed(*m.psnr_floor, 2) : "inf") : "-") + " | ";
+        md += (m.psnr ? decibels(*m.psnr) : "-") + " | ";
+        md += (m.psnr_floor ? decibels(*m.psnr_floor) : "-") + " | ";
         md += (m.ssim ? fixed(*m.ssim, 4) : "-") + " | ";
+        std::string each;
+        for (const LightingCheck& c : m.lightings)
+            each += (each.empty() ? "" : ", ") + c.lighting + " " + decibels(c.psnr) + " / " + decibels(c.psnr_floor);
+        md += cell(each.empty() ? "-" : each) + " | ";
         std::string note = m.reason;
         if (!m.edits.empty()) note += (note.empty() ? "" : "; ") + std::to_string(m.edits.size()) + " edit(s)";
         if (m.albedo_max && *m.albedo_max > kGainsLightAlbedo)
@@ -192,6 +215,13 @@ BatchSummary parse_summary_json(const std::string& text, const std::string& path
             m.psnr_floor = optional(n["psnr_floor"]);
             m.ssim = optional(n["ssim"]);
             m.relmse = optional(n["relmse"]);
+            // Summaries before issue 34 have no per-lighting figures.
+            const double inf = std::numeric_limits<double>::infinity();
+            for (const YAML::Node& l : n["lightings"]) {
+                m.lightings.push_back({l["lighting"].as<std::string>(), optional(l["psnr"]).value_or(inf),
+                                       optional(l["psnr_floor"]).value_or(inf), optional(l["ssim"]).value_or(1.0),
+                                       optional(l["relmse"]).value_or(0.0)});
+            }
             for (const YAML::Node& e : n["edits"]) m.edits.push_back(e.as<std::string>());
             m.hash = n["hash"].as<std::string>();
             s.materials.push_back(std::move(m));

@@ -55,11 +55,13 @@ Vec3 light_direction(double elevation_deg, double azimuth_deg) {
     return {float(d.x), float(d.y), float(d.z)};
 }
 
-std::string Lighting::label() const {
+std::string lighting_label(const std::string& name_or_map) {
     const std::vector<std::string>& names = builtin_lighting_names();
-    if (std::find(names.begin(), names.end(), name) != names.end()) return name;
-    return std::filesystem::path(name).filename().string();
+    if (std::find(names.begin(), names.end(), name_or_map) != names.end()) return name_or_map;
+    return std::filesystem::path(name_or_map).filename().string();
 }
+
+std::string Lighting::label() const { return lighting_label(name); }
 
 const std::vector<std::string>& builtin_lighting_names() {
     static const std::vector<std::string> names = {"studio", "key-rim", "directional"};

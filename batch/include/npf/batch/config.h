@@ -56,7 +56,10 @@ struct RenderCheck {
     std::uint32_t spp = 16;
     std::uint64_t seed = 0;
     unsigned threads = 0;
-    std::string env;  // empty: the shipped environment map
+    // The lightings rendered, each a built-in name or a map file (render/lighting.h): render.env,
+    // else the conversion's own `light` set, else the built-in set (studio, key-rim,
+    // directional). The material is judged by the worst.
+    std::vector<std::string> lightings;
 };
 RenderCheck resolve_render_check(const Settings& settings);
 

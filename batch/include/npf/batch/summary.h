@@ -14,6 +14,13 @@ namespace npf::batch {
 enum class MaterialStatus { Converted, Skipped, Failed };
 const char* status_name(MaterialStatus status);  // "converted", "skipped", "failed"
 
+// One lighting's validation render pair: the paired PSNR, its noise floor (the same pair at the
+// next seed; +infinity for "directional", which has no Monte Carlo), SSIM and relative MSE.
+struct LightingCheck {
+    std::string lighting;  // render::Lighting::label()
+    double psnr = 0.0, psnr_floor = 0.0, ssim = 0.0, relmse = 0.0;
+};
+
 struct MaterialResult {
     std::string name, input, output;
     MaterialStatus status = MaterialStatus::Failed;
@@ -28,9 +35,13 @@ struct MaterialResult {
     // The largest directional albedo of the output (npf convert's energy check); above 1 the
     // conversion reflects more light than it receives somewhere.
     std::optional<double> albedo_max;
-    // Validation render of the output against one of the input (render: true), paired, and the
-    // PSNR's paired noise floor (the same pair at the next seed).
+    // Validation renders of the output against the input (render: true), paired, under each
+    // lighting of the set (render.env), in the set's order ...
+    std::vector<LightingCheck> lightings;
+    // ... and the worst lighting's figures (the lowest PSNR): what a material is judged by.
     std::optional<double> psnr, ssim, relmse, psnr_floor;
+    // Sets psnr, ssim, relmse and psnr_floor from `lightings` (nothing when it is empty).
+    void judge_by_worst_lighting();
     std::vector<std::string> edits;  // edit history entries the batch added
     // input_bytes / output_bytes (how many times smaller the output is), when both are known.
     std::optional<double> ratio() const;

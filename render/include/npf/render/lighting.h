@@ -83,6 +83,9 @@ struct Lighting {
     std::string label() const;
 };
 
+// Lighting::label() of the lighting `name_or_map` names, without loading it.
+std::string lighting_label(const std::string& name_or_map);
+
 // The built-in names, in the default order of a prediction's set: studio, key-rim, directional.
 const std::vector<std::string>& builtin_lighting_names();
 
