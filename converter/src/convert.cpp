@@ -388,22 +388,27 @@ ConvertReport convert_material_stages(const Brdf& source, const std::string& out
             report.detailed_error = brdf_space_error(source, o.channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
                 model.eval_all(wi, wo, out);
             }, settings.error_pairs);
-            // The residual has no phi_h axis: on an anisotropic material it is the average over
-            // phi_h, which can miss every azimuth (brushed copper: 0.4 dB worse). There it is kept
-            // only where the independent error measurement says it helps. (Not on isotropic ones:
-            // relative RMS is ruled by near-black channels, and it rejected cg_sunflower's layer,
-            // which lifts its render from 35.9 to 46.3 dB.)
-            // (With a target the predicted render decides instead.)
-            if (settings.detail_only_if_better && !target && !model.isotropic() &&
-                !(report.detailed_error.mean_relative_rms < report.compressed_error.mean_relative_rms)) {
-                model = without_detail;
-                report.has_detail = false;
-                report.detail_grid = DetailGrid{};
-                report.detail_not_kept = true;
-            }
         }
     }
     if (settings.error_pairs > 0) report.held_out = compare_brdfs(NpfBrdf(model), source, model.channels, held_out_pairs());
+    // The residual has no phi_h axis: on an anisotropic material it is the average over phi_h,
+    // which can miss every azimuth. There it is kept only where the held-out BRDF-space error
+    // (f_r cos at pairs no fit saw, pooled over channels: docs/metrics.md sec. 14) says it helps.
+    // Not on isotropic ones, and not with a target (the predicted render decides there).
+    if (report.has_detail && settings.error_pairs > 0 && settings.detail_only_if_better && !target && !model.isotropic()) {
+        NpfModel without_detail = model;
+        without_detail.detail_grid = DetailGrid{};
+        without_detail.detail = SpectralBasis{};
+        const BrdfComparisonResult plain = compare_brdfs(NpfBrdf(without_detail), source, model.channels, held_out_pairs());
+        if (!(report.held_out.relative_rms < plain.relative_rms)) {
+            report.detail_not_kept_held_out_rms = report.held_out.relative_rms;
+            model = std::move(without_detail);
+            report.held_out = plain;
+            report.has_detail = false;
+            report.detail_grid = DetailGrid{};
+            report.detail_not_kept = true;
+        }
+    }
     // Energy: a fit can gain light where the data are thin (grazing views beyond the measured
     // range).
     {
@@ -462,8 +467,8 @@ ConvertReport convert_material_stages(const Brdf& source, const std::string& out
     m.emplace_back("compression_rule", settings.compression.per_channel ? "per-channel" : "total");
     m.emplace_back("horizon_closed", settings.close_horizon ? std::to_string(report.horizon_columns_closed) + " columns" : "no");
     if (report.detail_not_kept) {
-        m.emplace_back("detail_not_kept", "BRDF-space relative RMS " + six_digits(report.detailed_error.mean_relative_rms) +
-                                              " with it, " + six_digits(report.compressed_error.mean_relative_rms) + " without");
+        m.emplace_back("detail_not_kept", "held-out relative RMS of f_r cos " + six_digits(report.detail_not_kept_held_out_rms) +
+                                              " with it, " + six_digits(report.held_out.relative_rms) + " without");
     }
     if (report.has_detail) {
         const DetailGrid& dg = model.detail_grid;

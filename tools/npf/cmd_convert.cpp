@@ -112,9 +112,9 @@ int run_convert(const std::vector<std::string>& args) {
                     r.horizon_columns_closed, r.isotropic ? 1 : o.g_phi);
     }
     if (r.detail_not_kept) {
-        std::printf("  detail      fitted but not kept: BRDF-space relative RMS %.3f %% with it, %.3f %% without (its\n"
+        std::printf("  detail      fitted but not kept: held-out relative RMS of f_r cos %.4f with it, %.4f without (its\n"
                     "              residual has no phi_h axis; on anisotropic materials the average over phi_h can miss)\n",
-                    100.0 * r.detailed_error.mean_relative_rms, 100.0 * r.compressed_error.mean_relative_rms);
+                    r.detail_not_kept_held_out_rms, r.held_out.relative_rms);
     }
     if (r.has_detail) {
         const DetailGrid& dg = r.detail_grid;

@@ -108,7 +108,10 @@ struct ConvertReport {
     BrdfComparisonResult held_out;
     int horizon_columns_closed = 0;
     bool has_detail = false;
-    bool detail_not_kept = false;  // fitted, but it did not lower the BRDF-space error
+    // Fitted, but it did not lower the held-out BRDF-space error (anisotropic sources), which
+    // was this with it (held_out: without it).
+    bool detail_not_kept = false;
+    double detail_not_kept_held_out_rms = 0.0;
     int detail_rank = 0;
     DetailGrid detail_grid;  // of the written model (empty without a detail layer)
     DetailReport detail;
