@@ -5,9 +5,7 @@
 # Sphere scene and compares the pictures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j2
+bash scripts/build.sh
 material=data/materials/ilm_l3_37_metallic_rgb.bsdf
 mkdir -p out
 build/tools/npf/npf info "$material"

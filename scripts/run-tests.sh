@@ -1,13 +1,8 @@
 #!/usr/bin/env bash
-# The project's test command (README, second line; .ci/run calls exactly this): installs what
-# is missing (the Debian packages, then the Python build's virtual environment), builds with
-# warnings as errors, the Python package included, runs the unit tests and the Python package's
-# pytest suite (slow suites are opt-in).
+# The project's test command (README, second line; .ci/run calls exactly this): the build
+# run-default.sh makes too (scripts/build.sh: after the first command nothing is rebuilt), then
+# the unit tests and the Python package's pytest suite (slow suites are opt-in).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-python=$(bash scripts/python-env.sh build/python-venv)
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DNPF_WARNINGS_AS_ERRORS=ON \
-      -DNPF_BUILD_PYTHON=ON -DPython_EXECUTABLE="$PWD/$python"
-cmake --build build -j2
+bash scripts/build.sh
 ctest --test-dir build --output-on-failure -j2
