@@ -2,6 +2,7 @@
 // term) the fit recovers the material and its factors; at the extremes (mirror-sharp, purely
 // diffuse, one wavelength, zeros, tiny, huge and invalid values) it stays finite and sensible.
 #include <npf/converter/analytic/analytic_brdf.h>
+#include <npf/converter/convert_settings_table.h>
 #include <npf/converter/fit/awls.h>
 #include <npf/converter/fit/fit_error.h>
 #include <npf/converter/open_material.h>
@@ -537,6 +538,39 @@ TEST(Awls, RejectsBadOptions) {
         o.g_pin = pin;
         EXPECT_THROW(npf::fit_npf(source, o), npf::Error) << pin;
     }
+    o = isotropic_options(8, npf::Channels::spectral({550.f}));
+    o.phi_d_samples = npf::awls_limits::kMaxPhiDSamples + 1;
+    EXPECT_THROW(npf::fit_npf(source, o), npf::Error);
+    o = isotropic_options(8, npf::Channels::spectral({550.f}));
+    o.tolerance = -1e-3;
+    EXPECT_THROW(npf::fit_npf(source, o), npf::Error);
+}
+
+// The fitter owns its bounds: the message says them, and the settings `npf convert` and the
+// batch check take their ranges from the same declarations.
+TEST(Awls, TheSettingsTakeTheFittersOwnBounds) {
+    namespace lim = npf::awls_limits;
+    const AnalyticBrdf source(plastic(0.2f, 0.2f));
+    npf::AwlsOptions o = isotropic_options(8, npf::Channels::spectral({550.f}));
+    o.grid.theta_d = lim::kMaxCells + 1;
+    try {
+        npf::fit_npf(source, o);
+        ADD_FAILURE() << "a grid above the fitter's bound was fitted";
+    } catch (const npf::Error& e) {
+        EXPECT_EQ(std::string(e.what()), "fit: grid sizes must lie in 2..4096 (phi_h and the G phi cells from 1)");
+    }
+    const npf::ConvertSettingsTable& table = npf::convert_settings_table();
+    const npf::ConvertSettingRow* grid = npf::find_setting(table, "grid");
+    const npf::ConvertSettingRow* g_grid = npf::find_setting(table, "g_grid");
+    ASSERT_TRUE(grid && g_grid);
+    for (std::size_t axis = 0; axis < 4; ++axis) {
+        EXPECT_EQ(grid->ranges.at(axis).low, axis == 1 ? lim::kMinPhiCells : lim::kMinCells) << axis;
+        EXPECT_EQ(grid->ranges.at(axis).high, lim::kMaxCells) << axis;
+    }
+    EXPECT_EQ(g_grid->ranges.at(0).low, lim::kMinCells);
+    EXPECT_EQ(g_grid->ranges.at(1).low, lim::kMinPhiCells);
+    EXPECT_EQ(npf::find_setting(table, "phi_d_samples")->ranges.at(0).high, lim::kMaxPhiDSamples);
+    EXPECT_EQ(npf::find_setting(table, "iterations")->ranges.at(0).high, lim::kMaxIterations);
 }
 
 }  // namespace

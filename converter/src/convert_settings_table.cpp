@@ -108,7 +108,7 @@ std::string g_prior_name(const AwlsOptions& o) {
 }
 
 ConvertSettingsTable make_table() {
-    const Range grid_axis{2, 4096}, phi_axis{1, 4096};
+    const Range grid_axis{awls_limits::kMinCells, awls_limits::kMaxCells}, phi_axis{awls_limits::kMinPhiCells, awls_limits::kMaxCells};
     ConvertSettingsTable t;
     Row r;
 
@@ -168,7 +168,7 @@ ConvertSettingsTable make_table() {
     r.read = [](const ConvertSettings& s) { return std::to_string(s.fit.g_theta) + "," + std::to_string(s.fit.g_phi); };
     t.push_back(r);
 
-    r = hashed(whole("phi_d_samples", {{0, 4096}}, "phi_d samples per ring (0: every grid cell)"), 3);
+    r = hashed(whole("phi_d_samples", {{0, awls_limits::kMaxPhiDSamples}}, "phi_d samples per ring (0: every grid cell)"), 3);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.phi_d_samples = int(v.numbers[0]); };
     r.read = [](const ConvertSettings& s) { return std::to_string(s.fit.phi_d_samples); };
     r.metadata_order = 3;  // the samples per ring the fit took
@@ -258,7 +258,7 @@ ConvertSettingsTable make_table() {
     };
     t.push_back(r);
 
-    r = hashed(whole("iterations", {{1, 100000}}, "most AWLS sweeps per block of channels"), 10);
+    r = hashed(whole("iterations", {{1, awls_limits::kMaxIterations}}, "most AWLS sweeps per block of channels"), 10);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.max_iterations = int(v.numbers[0]); };
     r.read = [](const ConvertSettings& s) { return std::to_string(s.fit.max_iterations); };
     r.metadata_order = 8;

@@ -3,7 +3,6 @@
 #include "block_fit.h"
 #include "sample_set.h"
 
-#include <npf/converter/convert_settings_table.h>
 #include <npf/core/error.h>
 #include <npf/core/parallel.h>
 
@@ -27,28 +26,23 @@ constexpr std::size_t kResampleBytes = std::size_t(7) << 28;  // 1.75 GiB
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// A row's range for one part: the fit defends the bounds that `npf convert` and the batch check.
-const ConvertSettingRow::Range& setting_range(const char* key, std::size_t part) {
-    return find_setting(convert_settings_table(), key)->ranges.at(part);
-}
-
-bool within(double v, const ConvertSettingRow::Range& r) { return (r.low_open ? v > r.low : v >= r.low) && v <= r.high; }
-
 void check_options(const AwlsOptions& o) {
+    namespace lim = awls_limits;
     const RusinkiewiczGrid& g = o.grid;
     const int sizes[6] = {g.theta_h, g.phi_h, g.theta_d, g.phi_d, o.g_theta, o.g_phi};
-    const ConvertSettingRow::Range* ranges[6] = {&setting_range("grid", 0), &setting_range("grid", 1), &setting_range("grid", 2),
-                                                 &setting_range("grid", 3), &setting_range("g_grid", 0), &setting_range("g_grid", 1)};
+    const bool phi_axis[6] = {false, true, false, false, false, true};
     for (int i = 0; i < 6; ++i) {
-        if (sizes[i] < ranges[i]->low) throw Error("fit", "grid sizes must be at least 2 (phi_h and the G phi cells at least 1)");
-        if (sizes[i] > ranges[i]->high) throw Error("fit", "grid sizes above 4096 are not supported");
+        if (sizes[i] < (phi_axis[i] ? lim::kMinPhiCells : lim::kMinCells) || sizes[i] > lim::kMaxCells) {
+            throw Error("fit", "grid sizes must lie in " + std::to_string(lim::kMinCells) + ".." + std::to_string(lim::kMaxCells) +
+                                   " (phi_h and the G phi cells from " + std::to_string(lim::kMinPhiCells) + ")");
+        }
     }
-    if (!within(o.phi_d_samples, setting_range("phi_d_samples", 0))) throw Error("fit", "phi_d samples must be in 0..4096");
-    if (!within(o.tolerance, setting_range("tolerance", 0)) || o.max_iterations < setting_range("iterations", 0).low) {
-        throw Error("fit", "need at least one iteration and a tolerance >= 0");
-    }
+    if (o.phi_d_samples < 0 || o.phi_d_samples > lim::kMaxPhiDSamples)
+        throw Error("fit", "phi_d samples must lie in 0.." + std::to_string(lim::kMaxPhiDSamples));
+    if (o.max_iterations < 1 || o.max_iterations > lim::kMaxIterations || !(o.tolerance >= 0.0) || !std::isfinite(o.tolerance))
+        throw Error("fit", "need 1.." + std::to_string(lim::kMaxIterations) + " iterations and a finite tolerance >= 0");
     if (!std::isfinite(o.importance_power_view) || !std::isfinite(o.importance_power_light) || !std::isfinite(o.compressive_power) ||
-        !within(o.compressive_epsilon, setting_range("epsilon", 0))) {
+        !(o.compressive_epsilon > 0.0) || !std::isfinite(o.compressive_epsilon)) {
         throw Error("fit", "weight powers must be finite and the compressive epsilon positive");
     }
     if (!(o.g_pin >= 0.0) || !std::isfinite(o.g_pin)) throw Error("fit", "the G pin must be finite and >= 0");

@@ -24,6 +24,16 @@ namespace npf {
 // al.'s three-angle form for comparison (paper Table 1; see docs/fitting.md for our reading).
 enum class VolumeWeight { Paper, ThreeAngle };
 
+// The fit's own bounds on its options: fit_awls refuses options outside them, and `npf
+// convert`'s and the batch's settings take their ranges from here (convert_settings_table.cpp).
+namespace awls_limits {
+inline constexpr int kMinCells = 2;       // theta_h, theta_d, phi_d and the G table's theta
+inline constexpr int kMinPhiCells = 1;    // phi_h and the G table's phi (1: isotropic)
+inline constexpr int kMaxCells = 4096;    // any axis
+inline constexpr int kMaxPhiDSamples = 4096;
+inline constexpr int kMaxIterations = 100000;
+}  // namespace awls_limits
+
 struct AwlsOptions {
     RusinkiewiczGrid grid{90, 180, 90, 180};  // phi_h = 1 for isotropic sources
     int g_theta = 90, g_phi = 180;              // G table; g_phi = 1 for isotropic sources
