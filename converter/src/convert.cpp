@@ -261,18 +261,6 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
     return s;
 }
 
-EnergyCheck energy_check(const NpfModel& model, int threads) {
-    EnergyCheck e;
-    AlbedoTableOptions views;
-    views.threads = threads;
-    const AlbedoPeak peak = npf_largest_albedo(model, views);
-    e.albedo_max = peak.max;
-    e.theta_deg = peak.theta_deg;
-    e.channel = peak.channel;
-    e.unbounded_at_horizon = model.g_open_at_horizon();
-    return e;
-}
-
 namespace {
 
 ConvertReport convert_material_stages(const Brdf& source, const std::string& output, const ConvertSettings& settings,

@@ -2,7 +2,7 @@
 
 #include "tables.h"
 
-#include <npf/converter/convert.h>
+#include <npf/shading/npf_albedo.h>
 #include <npf/core/error.h>
 #include <npf/core/parallel.h>
 #include <npf/shading/npf_texture_layout.h>

@@ -51,4 +51,16 @@ AlbedoPeak npf_largest_albedo(const NpfModel& model, const AlbedoTableOptions& v
     return largest_albedo(directional_albedo_table(brdf, brdf.native_query(), views));
 }
 
+EnergyCheck energy_check(const NpfModel& model, int threads) {
+    EnergyCheck e;
+    AlbedoTableOptions views;
+    views.threads = threads;
+    const AlbedoPeak peak = npf_largest_albedo(model, views);
+    e.albedo_max = peak.max;
+    e.theta_deg = peak.theta_deg;
+    e.channel = peak.channel;
+    e.unbounded_at_horizon = model.g_open_at_horizon();
+    return e;
+}
+
 }  // namespace npf

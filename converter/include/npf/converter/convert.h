@@ -153,21 +153,6 @@ std::vector<double> energy_error_views_deg();
 // five times the energy check's accuracy (about 2e-3), so that no quadrature error triggers it.
 inline constexpr double kGainsLightAlbedo = 1.01;
 
-// The energy check npf convert runs on what it writes, and the `albedo_max` metadata it stores:
-// the largest directional albedo over the default views (default_albedo_thetas and
-// default_albedo_azimuths, those of npf albedo and npf edit's check), by the one estimator
-// (directional_albedo.h: for a model, its quadrature, within about 2e-3).
-struct EnergyCheck {
-    double albedo_max = 0.0, theta_deg = 0.0;
-    std::size_t channel = 0;
-    // Beyond G's last row centre the model continues G along the line through its last two rows;
-    // where that line ends above 0 at the horizon (in any channel with a specular term), the
-    // albedo grows like 1 / cos(theta_view) in the last fraction of a degree (docs/editing.md,
-    // limit_albedo). Not part of albedo_max: the views above stop at 89 degrees.
-    bool unbounded_at_horizon = false;
-};
-EnergyCheck energy_check(const NpfModel& model, int threads = 0);
-
 // Fits `source`, compresses, measures and writes `output` (NPF EXR, docs/format.md); with
 // settings.target_psnr, searches the detail ladder first (ConvertSettings). The progress callback
 // gets the fraction done. Throws npf::Error (no file is left at `output`).

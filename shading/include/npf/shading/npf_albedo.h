@@ -14,6 +14,7 @@
 #include <npf/core/vec.h>
 #include <npf/shading/npf_model.h>
 
+#include <cstddef>
 #include <vector>
 
 namespace npf {
@@ -35,5 +36,21 @@ std::vector<double> npf_directional_albedo(const NpfModel& model, const Vec3& wi
 // default_albedo_thetas) and its stored channels: npf convert's energy check and npf edit's
 // check after each step. Throws npf::Error when the model is inconsistent (NpfModel::validate).
 AlbedoPeak npf_largest_albedo(const NpfModel& model, const AlbedoTableOptions& views = {});
+
+// A model's energy check: what npf convert runs on what it writes (its `albedo_max` metadata)
+// and npf edit's albedo cap after its edit:
+// the largest directional albedo over the default views (default_albedo_thetas and
+// default_albedo_azimuths, those of npf albedo and npf edit's check), by the one estimator
+// (directional_albedo.h: for a model, its quadrature, within about 2e-3).
+struct EnergyCheck {
+    double albedo_max = 0.0, theta_deg = 0.0;
+    std::size_t channel = 0;
+    // Beyond G's last row centre the model continues G along the line through its last two rows;
+    // where that line ends above 0 at the horizon (in any channel with a specular term), the
+    // albedo grows like 1 / cos(theta_view) in the last fraction of a degree (docs/editing.md,
+    // limit_albedo). Not part of albedo_max: the views above stop at 89 degrees.
+    bool unbounded_at_horizon = false;
+};
+EnergyCheck energy_check(const NpfModel& model, int threads = 0);
 
 }  // namespace npf
