@@ -11,6 +11,7 @@
 #include <npf/core/error.h>
 #include <npf/edit/albedo_limit.h>
 #include <npf/edit/recipe.h>
+#include <npf/shading/npf_albedo.h>
 #include <npf/shading/npf_texture_file.h>
 
 #include <gtest/gtest.h>
