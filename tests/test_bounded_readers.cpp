@@ -2,6 +2,7 @@
 // item 7): sparse files that claim gigabytes, fields and tables above the documented caps,
 // shapes of absurd rank, finite but absurd values, MERL files of the wrong size, overflowing
 // direction components, images whose alpha could pass for blue.
+#include "merl_writer.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -143,7 +144,7 @@ TEST(BoundedReaders, FiniteButAbsurdValuesAreRefused) {
 TEST(BoundedReaders, MerlFilesOfTheWrongSizeSayWhatIsWrong) {
     const std::string dir = npf::testing::temporary_folder("bounded-merl");
     const std::string good = dir + "/good.binary";
-    npf::write_merl(good, 90, 90, 180, [](int, int, int, double rgb[3]) { rgb[0] = rgb[1] = rgb[2] = 0.1; });
+    npf::testing::write_merl(good, 90, 90, 180, [](int, int, int, double rgb[3]) { rgb[0] = rgb[1] = rgb[2] = 0.1; });
     std::vector<std::uint8_t> bytes(fs::file_size(good));
     {
         std::ifstream in(good, std::ios::binary);
@@ -159,7 +160,7 @@ TEST(BoundedReaders, MerlFilesOfTheWrongSizeSayWhatIsWrong) {
     EXPECT_NE(error_of([&] { npf::open_material(padded); }).find("trailing data"), std::string::npos);
     // Any plausible header, not only MERL's standard one: a 2 x 3 x 4 table with a byte too many.
     const std::string small = dir + "/small.binary", small_padded = dir + "/small.dat";
-    npf::write_merl(small, 2, 3, 4, [](int, int, int, double rgb[3]) { rgb[0] = rgb[1] = rgb[2] = 0.1; });
+    npf::testing::write_merl(small, 2, 3, 4, [](int, int, int, double rgb[3]) { rgb[0] = rgb[1] = rgb[2] = 0.1; });
     {
         std::ifstream in(small, std::ios::binary);
         std::vector<std::uint8_t> b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

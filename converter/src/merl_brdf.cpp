@@ -5,7 +5,6 @@
 #include <npf/core/cosine_sampling.h>
 #include <npf/converter/merl_brdf.h>
 
-#include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
 
@@ -40,14 +39,6 @@ std::int32_t read_le_int32(const std::uint8_t* p) {
     std::int32_t v;
     std::memcpy(&v, &u, sizeof v);
     return v;
-}
-
-void write_le32(std::uint8_t* p, std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
-}
-
-void write_le64(std::uint8_t* p, std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
 }
 
 bool host_is_little_endian() {
@@ -435,38 +426,6 @@ float MerlBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
 bool MerlBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
                       float* weight) const {
     return sample_cosine_hemisphere(*this, wi, u, query, s, weight);
-}
-
-// ---- Writing -----------------------------------------------------------------------------
-
-void write_merl(const std::string& path, int n_th, int n_td, int n_pd,
-                const std::function<void(int ith, int itd, int ipd, double rgb_stored[3])>& fill) {
-    std::uint64_t file_bytes = 0;
-    std::string problem = check_dims(n_th, n_td, n_pd, file_bytes);
-    if (!problem.empty()) throw Error(path, problem);
-
-    const std::size_t bins = static_cast<std::size_t>(n_th) * static_cast<std::size_t>(n_td) *
-                             static_cast<std::size_t>(n_pd);
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(file_bytes));
-    write_le32(bytes.data(), static_cast<std::uint32_t>(n_th));
-    write_le32(bytes.data() + 4, static_cast<std::uint32_t>(n_td));
-    write_le32(bytes.data() + 8, static_cast<std::uint32_t>(n_pd));
-    std::uint8_t* table = bytes.data() + kHeaderBytes;
-    std::size_t index = 0;  // phi_d fastest, then theta_d, then theta_h: the file's order
-    for (int ith = 0; ith < n_th; ++ith) {
-        for (int itd = 0; itd < n_td; ++itd) {
-            for (int ipd = 0; ipd < n_pd; ++ipd, ++index) {
-                double rgb[kChannelCount] = {0.0, 0.0, 0.0};
-                fill(ith, itd, ipd, rgb);
-                for (int c = 0; c < kChannelCount; ++c) {
-                    std::uint64_t raw;
-                    std::memcpy(&raw, &rgb[c], sizeof raw);
-                    write_le64(table + (c * bins + index) * sizeof(double), raw);
-                }
-            }
-        }
-    }
-    write_file_atomically(path, bytes.data(), bytes.size());
 }
 
 }  // namespace npf

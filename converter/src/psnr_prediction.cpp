@@ -23,13 +23,11 @@ PsnrPredictor::PsnrPredictor(const Brdf& source, const PsnrPredictionOptions& op
     if (m_options.lightings.empty()) throw Error("prediction", "needs at least one lighting");
     // Every lighting first: a missing map fails before any render.
     for (const std::string& name : m_options.lightings) m_judged.push_back({render::make_lighting(name, "lighting"), {}, {}});
-    const auto start = Clock::now();
     for (Judged& j : m_judged) {
         j.source = render_at(source, j.lighting, m_options.seed);
         if (m_options.floor_seed != 0 && !j.lighting.directional())
             j.source_floor = render_at(source, j.lighting, m_options.floor_seed);
     }
-    m_source_seconds = seconds_since(start);
 }
 
 color::FloatImage PsnrPredictor::render_at(const Brdf& material, const render::Lighting& lighting, std::uint64_t seed) const {

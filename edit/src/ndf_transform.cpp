@@ -152,10 +152,6 @@ std::vector<double> projected_area(const NpfModel& model) {
     return detail::projected_areas(detail::expand(model.D, model.channel_count()), model.d_theta, model.d_phi);
 }
 
-std::vector<double> g_at_normal(const NpfModel& model) {
-    return first_row_means(detail::expand(model.G, model.channel_count()), model.g_phi);
-}
-
 NpfModel transform_ndf(const NpfModel& in, const Mat3& given, const NdfTransformOptions& options, EditRecord* record) {
     for (double v : given.m) {
         if (!std::isfinite(v)) throw Error(kSource, "the matrix " + matrix_text(given) + " has a non-finite entry");

@@ -15,7 +15,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -88,12 +87,5 @@ private:
     // the reference reader exactly.
     std::vector<double> m_fr;
 };
-
-// Writes a MERL file of the given dimensions atomically (npf::write_file_atomically). `fill`
-// is called once per bin and sets the three STORED numbers (f_r / channel scale, negative for
-// invalid bins). For tests and tools; no real MERL file needs to be present. Throws
-// npf::Error naming `path` for bad dimensions or when writing fails.
-void write_merl(const std::string& path, int n_th, int n_td, int n_pd,
-                const std::function<void(int ith, int itd, int ipd, double rgb_stored[3])>& fill);
 
 }  // namespace npf

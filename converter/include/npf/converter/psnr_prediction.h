@@ -78,7 +78,6 @@ public:
     // for a set "Sphere 128x128, env sampling, seed 1 (floor: seed 2); worst of studio 64 spp,
     // key-rim 256 spp, directional at pixel centres (no noise)".
     std::string settings_text() const;
-    double source_seconds() const { return m_source_seconds; }  // the source's renders
 
 private:
     struct Judged {
@@ -89,7 +88,6 @@ private:
 
     PsnrPredictionOptions m_options;
     std::vector<Judged> m_judged;
-    double m_source_seconds = 0.0;
 };
 
 }  // namespace npf

@@ -74,8 +74,4 @@ NpfModel transform_ndf(const NpfModel& model, const Mat3& m, const NdfTransformO
 // it (the fitter's gauge uses the same quadrature).
 std::vector<double> projected_area(const NpfModel& model);
 
-// G of each channel at normal incidence as the fitter's gauge defines it: the mean of G's first
-// theta row.
-std::vector<double> g_at_normal(const NpfModel& model);
-
 }  // namespace npf::edit

@@ -41,11 +41,6 @@ inline std::uint64_t hash_words(std::uint64_t a, std::uint64_t b, std::uint64_t 
     return hash_words(hash_words(a, b, c), d);
 }
 
-// Uniform in [0, 1) from the top 24 bits of `bits`: exact in float and never 1.
-inline float unit_float(std::uint64_t bits) {
-    return float(bits >> 40) * (1.0f / 16777216.0f);
-}
-
 // A bijection of [0, n) chosen by `key` (n >= 1): a keyed invertible mixer on the smallest
 // power-of-two range that holds n, iterated until the value falls below n (cycle walking).
 std::uint32_t permute_index(std::uint32_t index, std::uint32_t n, std::uint64_t key);
