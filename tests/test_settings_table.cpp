@@ -243,6 +243,10 @@ std::vector<Candidate> candidates(const ConvertSettingRow& row) {
         out.push_back({with(n - 1, "x"), false});
         out.push_back({with(n - 1, ""), false});
         if (whole) out.push_back({with(0, "1.5"), false});
+        // One parser for every number (core/number_text.h): a blank is not part of one, for
+        // --iterations as for --spp. (A batch list's items are trimmed, as YAML's "[16, 1, 16, 32]"
+        // items are: blanks around its commas belong to the list.)
+        if (!row.takes_list) out.push_back({with(0, " " + base[0]), false});
         if (row.most_parts > 0) {
             std::string too_many = with(0, base[0]);
             for (std::size_t k = n; k <= row.most_parts; ++k) too_many += ",1";

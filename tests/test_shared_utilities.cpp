@@ -105,12 +105,18 @@ TEST(SharedUtilities, WholeNumbersReadTheSameEverywhere) {
 
 TEST(SharedUtilities, FiniteNumbersAndNumberLists) {
     EXPECT_EQ(npf::parse_finite_number("-2.5e-3", "--x"), -2.5e-3);
-    for (const char* bad : {"", "nan", "inf", "1e999", "1,2", "2x", " "}) {
+    EXPECT_EQ(npf::parse_finite_number("+.5", "--x"), 0.5);
+    EXPECT_EQ(npf::parse_finite_number("5.", "--x"), 5.0);
+    EXPECT_EQ(npf::parse_finite_number("1E+2", "--x"), 100.0);
+    // Plain decimals only: blanks, hex, C's special words and a bare sign or point are not
+    // numbers, here as in every flag and key.
+    for (const char* bad : {"", "nan", "inf", "1e999", "1,2", "2x", " ", " 5", "5 ", "0x10", "infinity", "-", ".", "1e", "e5",
+                            "1.2.3", "--1"}) {
         EXPECT_EQ(problem_of([&] { npf::parse_finite_number(bad, "--x"); }), std::string("'") + bad + "' is not a number") << bad;
     }
     EXPECT_EQ(npf::parse_number_list("1.5"), std::vector<double>({1.5}));
     EXPECT_EQ(npf::parse_number_list("0.2,3.1,-1"), std::vector<double>({0.2, 3.1, -1.0}));
-    for (const char* other : {"", ",", "1,,2", "1,2,", "Cu", "1,inf", "file.spd"}) {
+    for (const char* other : {"", ",", "1,,2", "1,2,", "Cu", "1,inf", "file.spd", "1, 2", "0x1"}) {
         EXPECT_FALSE(npf::parse_number_list(other).has_value()) << other;
     }
 }

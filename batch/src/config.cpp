@@ -15,6 +15,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <limits>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -69,9 +70,10 @@ void check_value(const std::string& origin, const std::string& key, const std::s
     }
     if (k == "render") boolean(origin, key, v);
     else if (k == "render.threads") whole(origin, key, v, 1, 1024);
-    else if (k == "render.size") whole(origin, key, v, 16, 4096);
-    else if (k == "render.spp") whole(origin, key, v, 1, 1 << 20);
-    else if (k == "render.seed") whole(origin, key, v, 0, 2147483647);
+    // The renderer's own bounds, as `npf render`'s.
+    else if (k == "render.size") whole(origin, key, v, 1, long(render::RenderOptions::kMaxSide));
+    else if (k == "render.spp") whole(origin, key, v, 1, long(render::RenderOptions::kMaxSpp));
+    else if (k == "render.seed") whole(origin, key, v, 0, std::numeric_limits<long>::max());
     else if (k == "memory_limit" || k == "time_limit") {
         try {
             if (k == "memory_limit") parse_memory_limit(v, key);
@@ -367,10 +369,15 @@ RenderCheck resolve_render_check(const Settings& s) {
     RenderCheck r;
     const auto it = s.find("render");
     r.enabled = it != s.end() && it->second.value == "true";
-    if (const auto i = s.find("render.size"); i != s.end()) r.size = std::size_t(std::atol(i->second.value.c_str()));
-    if (const auto i = s.find("render.spp"); i != s.end()) r.spp = std::uint32_t(std::atol(i->second.value.c_str()));
-    if (const auto i = s.find("render.seed"); i != s.end()) r.seed = std::uint64_t(std::atol(i->second.value.c_str()));
-    if (const auto i = s.find("render.threads"); i != s.end()) r.threads = unsigned(std::atol(i->second.value.c_str()));
+    // Checked when read (check_value); read here by the same parser.
+    const auto whole_of = [&s](const char* key, std::uint64_t fallback) {
+        const auto i = s.find(key);
+        return i == s.end() ? fallback : parse_whole_number(i->second.value, 0, std::numeric_limits<std::uint64_t>::max(), key);
+    };
+    r.size = std::size_t(whole_of("render.size", r.size));
+    r.spp = std::uint32_t(whole_of("render.spp", r.spp));
+    r.seed = whole_of("render.seed", r.seed);
+    r.threads = unsigned(whole_of("render.threads", r.threads));
     if (const auto i = s.find("render.env"); i != s.end()) r.lightings = render::parse_lighting_list(i->second.value, "render.env");
     else if (const auto l = s.find("light"); l != s.end()) r.lightings = render::parse_lighting_list(l->second.value, "light");
     else r.lightings = render::builtin_lighting_names();

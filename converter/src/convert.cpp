@@ -5,6 +5,7 @@
 #include <npf/core/directional_albedo.h>
 #include <npf/shading/npf_albedo.h>
 #include <npf/core/error.h>
+#include <npf/core/number_text.h>
 #include <npf/core/text.h>
 #include <npf/shading/npf_texture_layout.h>
 #include <npf/shading/npf_brdf.h>
@@ -131,11 +132,10 @@ void search_detail_ladder(const Brdf& source, NpfModel& model, const ConvertSett
 }  // namespace
 
 double parse_target_psnr(const std::string& text, const std::string& what) {
-    char* end = nullptr;
-    const double db = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0') throw Error(what, "'" + text + "' is not a PSNR in dB (a number above 0)");
-    check_target_psnr(db, what);
-    return db;
+    const std::optional<double> db = finite_number_of(text);
+    if (!db) throw Error(what, "'" + text + "' is not a PSNR in dB (a number above 0)");
+    check_target_psnr(*db, what);
+    return *db;
 }
 
 void check_target_psnr(double db, const std::string& what) {
@@ -156,12 +156,11 @@ DetailGrid parse_detail_grid(const std::string& text, char separator, const std:
         const std::size_t end = k < 2 ? text.find(separator, start) : text.size();
         if (end == std::string::npos) throw Error(what, "'" + text + "' is not " + form);
         const std::string part = text.substr(start, end - start);
-        char* stop = nullptr;
-        const long n = std::strtol(part.c_str(), &stop, 10);
-        if (part.empty() || *stop != '\0' || n < 1 || n > most[k]) {
+        try {
+            v[k] = int(parse_whole_number(part, 1, std::uint64_t(most[k]), what));
+        } catch (const Error&) {
             throw Error(what, "'" + text + "' is not " + form + ", each a whole number in [1, " + std::to_string(most[k]) + "]");
         }
-        v[k] = int(n);
         start = end + 1;
     }
     return {v[0], v[1], v[2]};

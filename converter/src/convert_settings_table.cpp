@@ -472,13 +472,9 @@ SettingValue check_setting(const ConvertSettingRow& row, const std::string& v, c
             const auto inside = [&](double d) {
                 return !range || ((range->low_open ? d > range->low : d >= range->low) && d <= range->high);
             };
-            errno = 0;
-            char* end = nullptr;
             if (row.kind == SettingKind::Whole) {
-                const long n = std::strtol(p.c_str(), &end, 10);
-                if (p.empty() || *end != '\0' || errno == ERANGE || !inside(double(n))) {
-                    throw Error(what, "needs a whole number in " + range_text(*range) + ", got '" + p + "'");
-                }
+                const std::uint64_t n = parse_whole_number(p, 0, std::numeric_limits<std::uint32_t>::max(), what);
+                if (!inside(double(n))) throw Error(what, "needs a whole number in " + range_text(*range) + ", got '" + p + "'");
                 out.numbers.push_back(double(n));
             } else {
                 const double d = parse_finite_number(p, what);

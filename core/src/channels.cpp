@@ -1,5 +1,6 @@
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
+#include <npf/core/number_text.h>
 
 #include <algorithm>
 #include <cmath>
@@ -93,17 +94,9 @@ ChannelQuery make_channel_query(const Channels& stored, const Channels& requeste
 
 std::vector<float> parse_wavelength_list(const std::string& text, const std::string& what) {
     auto number = [&](const std::string& s) {
-        // Plain decimal numbers only: strtod alone would also take hex, "inf" and spaces.
-        if (s.find_first_not_of("0123456789.eE+-") != std::string::npos) {
-            throw Error(what, "'" + s + "' in wavelength list '" + text + "' is not a positive number (nm)");
-        }
-        char* end = nullptr;
-        double v = std::strtod(s.c_str(), &end);
-        if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v) || v <= 0.0) {
-            throw Error(what, "'" + s + "' in wavelength list '" + text +
-                                  "' is not a positive number (nm)");
-        }
-        return v;
+        const std::optional<double> v = finite_number_of(s);
+        if (!v || *v <= 0.0) throw Error(what, "'" + s + "' in wavelength list '" + text + "' is not a positive number (nm)");
+        return *v;
     };
     std::vector<float> out;
     if (text.empty()) throw Error(what, "empty wavelength list");

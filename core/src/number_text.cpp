@@ -18,11 +18,44 @@ std::uint64_t parse_whole_number(const std::string& text, std::uint64_t lo, std:
     return n;
 }
 
-double parse_finite_number(const std::string& text, const std::string& what) {
-    char* end = nullptr;
-    const double d = text.empty() ? 0.0 : std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(d)) throw Error(what, "'" + text + "' is not a number");
+namespace {
+
+// [+-] digits [. digits] [(e|E) [+-] digits], at least one digit before the exponent.
+bool plain_decimal(const std::string& t) {
+    std::size_t i = 0;
+    const auto digits = [&] {
+        const std::size_t from = i;
+        while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i;
+        return i - from;
+    };
+    if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+    std::size_t mantissa = digits();
+    if (i < t.size() && t[i] == '.') {
+        ++i;
+        mantissa += digits();
+    }
+    if (mantissa == 0) return false;
+    if (i < t.size() && (t[i] == 'e' || t[i] == 'E')) {
+        ++i;
+        if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+        if (digits() == 0) return false;
+    }
+    return i == t.size();
+}
+
+}  // namespace
+
+std::optional<double> finite_number_of(const std::string& text) {
+    if (!plain_decimal(text)) return std::nullopt;
+    const double d = std::strtod(text.c_str(), nullptr);
+    if (!std::isfinite(d)) return std::nullopt;  // out of double's range ("1e999")
     return d;
+}
+
+double parse_finite_number(const std::string& text, const std::string& what) {
+    const std::optional<double> d = finite_number_of(text);
+    if (!d) throw Error(what, "'" + text + "' is not a number");
+    return *d;
 }
 
 std::optional<std::vector<double>> parse_number_list(const std::string& text) {
@@ -31,10 +64,9 @@ std::optional<std::vector<double>> parse_number_list(const std::string& text) {
     while (true) {
         const std::size_t comma = text.find(',', begin);
         const std::string part = text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin);
-        char* end = nullptr;
-        const double v = part.empty() ? 0.0 : std::strtod(part.c_str(), &end);
-        if (part.empty() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
-        numbers.push_back(v);
+        const std::optional<double> v = finite_number_of(part);
+        if (!v) return std::nullopt;
+        numbers.push_back(*v);
         if (comma == std::string::npos) return numbers;
         begin = comma + 1;
     }

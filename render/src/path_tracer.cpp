@@ -73,10 +73,12 @@ private:
 
 void validate_render_options(const RenderOptions& o) {
     const std::string src = "render options";
-    if (o.width < 1 || o.width > 16384) throw Error(src, "image width must be in 1..16384, got " + std::to_string(o.width));
-    if (o.height < 1 || o.height > 16384)
-        throw Error(src, "image height must be in 1..16384, got " + std::to_string(o.height));
-    if (o.spp < 1 || o.spp > (1u << 24)) throw Error(src, "samples per pixel must be in 1..16777216, got " + std::to_string(o.spp));
+    const std::string side = "1.." + std::to_string(RenderOptions::kMaxSide);
+    if (o.width < 1 || o.width > RenderOptions::kMaxSide) throw Error(src, "image width must be in " + side + ", got " + std::to_string(o.width));
+    if (o.height < 1 || o.height > RenderOptions::kMaxSide)
+        throw Error(src, "image height must be in " + side + ", got " + std::to_string(o.height));
+    if (o.spp < 1 || o.spp > RenderOptions::kMaxSpp)
+        throw Error(src, "samples per pixel must be in 1.." + std::to_string(RenderOptions::kMaxSpp) + ", got " + std::to_string(o.spp));
     if (o.threads > 1024) throw Error(src, "at most 1024 threads");
 }
 

@@ -54,10 +54,10 @@ const std::vector<FlagSpec> kFlags = {
 void parse_size(const std::string& v, std::size_t& width, std::size_t& height) {
     const std::size_t x = v.find('x');
     if (x == std::string::npos) {
-        width = height = std::size_t(parse_whole_number(v, 1, 16384, "--size"));
+        width = height = std::size_t(parse_whole_number(v, 1, render::RenderOptions::kMaxSide, "--size"));
     } else {
-        width = std::size_t(parse_whole_number(v.substr(0, x), 1, 16384, "--size"));
-        height = std::size_t(parse_whole_number(v.substr(x + 1), 1, 16384, "--size"));
+        width = std::size_t(parse_whole_number(v.substr(0, x), 1, render::RenderOptions::kMaxSide, "--size"));
+        height = std::size_t(parse_whole_number(v.substr(x + 1), 1, render::RenderOptions::kMaxSide, "--size"));
     }
 }
 
@@ -99,7 +99,7 @@ int run_render(const std::vector<std::string>& args) {
     // Every flag first, so that a typo fails before any work.
     render::RenderOptions options;
     if (cl.has("--size")) parse_size(cl.value("--size"), options.width, options.height);
-    options.spp = std::uint32_t(cl.whole("--spp", 1, 1u << 24, options.spp));
+    options.spp = std::uint32_t(cl.whole("--spp", 1, render::RenderOptions::kMaxSpp, options.spp));
     options.seed = cl.whole("--seed", 0, ~std::uint64_t(0), options.seed);
     options.threads = unsigned(cl.whole("--threads", 1, 1024, options.threads));
     if (cl.has("--scene") && cl.value("--scene") != "sphere")

@@ -122,13 +122,12 @@ int run_synth(const std::vector<std::string>& args) {
             const double thickness = parse_finite_number(t.substr(0, a), "--thin-film");
             const double film = parse_finite_number(t.substr(a + 1, b - a - 1), "--thin-film");
             const std::string base = t.substr(b + 1);
-            char* end = nullptr;
-            const double base_ior = std::strtod(base.c_str(), &end);
+            const std::optional<double> base_ior = finite_number_of(base);
             if (!(thickness >= 0.0)) throw Error("--thin-film", "the film thickness must not be negative (nm)");
-            if (!base.empty() && *end == '\0') {
+            if (base_ior) {
                 lobe.fresnel = for_flag("--thin-film", [&] {
                     return Fresnel::thin_film(thickness, color::SampledSpectrum::constant(film),
-                                              color::SampledSpectrum::constant(base_ior), color::SampledSpectrum::constant(0.0));
+                                              color::SampledSpectrum::constant(*base_ior), color::SampledSpectrum::constant(0.0));
                 });
             } else {
                 const std::string eta = find_data_file("ior/" + base + ".eta.spd"), k = find_data_file("ior/" + base + ".k.spd");

@@ -13,12 +13,17 @@ namespace npf {
 // npf::Error(what, "needs a whole number in [lo, hi], got 'TEXT'").
 std::uint64_t parse_whole_number(const std::string& text, std::uint64_t lo, std::uint64_t hi, const std::string& what);
 
-// A finite number, the whole text in strtod's syntax; otherwise throws
-// npf::Error(what, "'TEXT' is not a number").
+// A finite decimal number, the whole text: an optional sign, digits with an optional point, an
+// optional exponent ("0.25", "-3", "1e-4", ".5"); no blanks, no hex, no "inf" or "nan" (strtod
+// alone takes all three). Otherwise throws npf::Error(what, "'TEXT' is not a number").
 double parse_finite_number(const std::string& text, const std::string& what);
 
-// Comma-separated finite numbers ("1.5" or "0.2,3.1"), or nothing when any part is not one (the
-// text is then something else: a name, a path). Empty parts ("1,,2", "") are not numbers.
+// The same rule without throwing: nothing when `text` is not such a number.
+std::optional<double> finite_number_of(const std::string& text);
+
+// Comma-separated finite numbers ("1.5" or "0.2,3.1"), each as above, or nothing when any part
+// is not one (the text is then something else: a name, a path). Empty parts ("1,,2", "") are
+// not numbers.
 std::optional<std::vector<double>> parse_number_list(const std::string& text);
 
 }  // namespace npf

@@ -46,9 +46,14 @@ enum class Sampling {
 };
 
 struct RenderOptions {
+    // The renderer's bounds (render() refuses others; `npf render` and the batch's render.*
+    // settings take theirs from here).
+    static constexpr std::size_t kMaxSide = 16384;             // pixels, width and height
+    static constexpr std::uint32_t kMaxSpp = std::uint32_t(1) << 24;
+
     SceneKind scene = SceneKind::Sphere;
-    std::size_t width = 256, height = 256;  // 1 .. 16384 each
-    std::uint32_t spp = 64;                  // samples per pixel, 1 .. 2^24
+    std::size_t width = 256, height = 256;  // 1 .. kMaxSide each
+    std::uint32_t spp = 64;                  // samples per pixel, 1 .. kMaxSpp
     std::uint64_t seed = 0;
     unsigned threads = 0;                    // 0: npf::thread_count(0) (all hardware threads)
     // Nothing: as the material stores (RGB, or the default wavelength quadrature,
