@@ -139,6 +139,11 @@ def _not(mask):
     return (not mask) if isinstance(mask, bool) else ~mask
 
 
+def _nonzero(dr, x):
+    # A denominator for a select's unused side: Python floats raise on 0 (the scalar variants).
+    return dr.select(x == 0.0, 1.0, x)
+
+
 def _sqrt(dr, x):
     return dr.sqrt(dr.maximum(x, 0.0))
 
@@ -269,7 +274,7 @@ class TracedModel:
         phi_h = _azimuth(dr, hx, hy) if self.d_phi > 1 else 0.0 * hx
         cx, cy, cz = iy * oz - iz * oy, iz * ox - ix * oz, ix * oy - iy * ox
         theta_d = dr.atan2(_sqrt(dr, cx * cx + cy * cy + cz * cz), 1.0 + (ix * ox + iy * oy + iz * oz))
-        at = {"domain": (iz > 0.0) & (oz > 0.0), "inv_cos": dr.rcp(iz * oz), "cos_o": oz}
+        at = {"domain": (iz > 0.0) & (oz > 0.0), "inv_cos": 1.0 / _nonzero(dr, iz * oz), "cos_o": oz}
         at["D"] = self.D.project(ops, self._bilinear(_clamped(ops, dr, u_h * float(self.d_theta), self.d_theta),
                                                      _periodic(ops, dr, phi_h * _INV_TWO_PI * float(self.d_phi), self.d_phi),
                                                      self.d_phi))
@@ -359,12 +364,12 @@ class TracedModel:
             theta_h = dr.atan2(_sqrt(dr, r2), hz)
             u_h = _sqrt(dr, theta_h * _INV_HALF_PI)
             phi_h = _azimuth(dr, hx, hy) if self.d_phi > 1 else 0.0 * hx
-            cos_d = (ix * hx + iy * hy + iz * hz) / _sqrt(dr, r2 + hz * hz)
+            cos_d = (ix * hx + iy * hy + iz * hz) / _nonzero(dr, _sqrt(dr, r2 + hz * hz))
             k = dr.minimum(dr.floor(u_h * float(self.d_theta)), float(self.d_theta - 1))
             j = dr.minimum(dr.floor(phi_h * _INV_TWO_PI * float(self.d_phi)), float(self.d_phi - 1))
             ok = (cos_d > 0.0) & (theta_h < 0.5 * _math.pi)
             cell = ops.to_uint(dr.select(ok, k * float(self.d_phi) + j, 0.0))
-            p = p + dr.select(ok, (1.0 - pd) * ops.gather(self.density, cell, ok) / (4.0 * cos_d), 0.0)
+            p = p + dr.select(ok, (1.0 - pd) * ops.gather(self.density, cell, ok) / (4.0 * _nonzero(dr, cos_d)), 0.0)
         return self._finite(dr.select((iz > 0.0) & (oz > 0.0), p, 0.0))
 
     def draw(self, wi, u1, u2):
@@ -386,7 +391,7 @@ class TracedModel:
         keep = ops.gather(self.keep, i)
         kept = f < keep
         index = dr.select(kept, i, ops.gather(self.alias, i))
-        remainder = dr.minimum(dr.select(kept, f / keep, (f - keep) / (1.0 - keep)), _BELOW_ONE)
+        remainder = dr.minimum(dr.select(kept, f / _nonzero(dr, keep), (f - keep) / _nonzero(dr, 1.0 - keep)), _BELOW_ONE)
         k, j = index // self.d_phi, index % self.d_phi
         s0, s1 = ops.gather(self.half_sin2, k), ops.gather(self.half_sin2, k + 1)
         s = s0 + (s1 - s0) * remainder
@@ -485,7 +490,7 @@ def register(name="npf"):
             ok = active & (si.wi.z > 0.0) & (wo.z > 0.0) & (pdf > 0.0)
             at = self.model.prepare(si.wi, wo)
             values = self.model.values(at, self._wavelengths(si))
-            weight = self._spectrum([self.model._finite(v / pdf) for v in values])
+            weight = self._spectrum([self.model._finite(v / _nonzero(dr, pdf)) for v in values])
             bs.wo = wo
             bs.pdf = dr.select(ok, pdf, 0.0)
             bs.eta = 1.0
