@@ -35,6 +35,7 @@ def test_doc_blocks_run_as_written(page, tmp_path):
     script = tmp_path / "blocks.py"
     script.write_text("\n".join(blocks))
     env = dict(os.environ, NPF_SOURCE=str(REPO))
+    env["PYTHONPATH"] = os.pathsep.join(os.path.abspath(p) for p in env.get("PYTHONPATH", "").split(os.pathsep) if p)
     done = subprocess.run([sys.executable, str(script)], cwd=tmp_path, env=env, capture_output=True, text=True,
                           timeout=900)
     assert done.returncode == 0, "docs/{}: {}".format(page, done.stderr[-3000:])

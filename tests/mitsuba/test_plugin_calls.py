@@ -75,7 +75,13 @@ drawn, ref_drawn = spdf > 0, ref_pdf > 0
 assert np.sum(drawn != ref_drawn) <= max(1, n // 1000), ("draws", np.sum(drawn != ref_drawn))
 both = drawn & ref_drawn
 assert np.max(np.abs(swo[both] - ref_wo[both])) < 1e-4, ("directions", np.max(np.abs(swo[both] - ref_wo[both])))
-assert rel_rms(spdf[both], ref_pdf[both]) < tol and rel_rms(sweight[both], ref_weight[both]) < 10 * tol
+# The pdf is piecewise constant over D's cells: a draw within rounding of a cell's edge may take
+# the neighbour's density in single precision (2 of 18,109 draws on the brushed copper).
+close = np.abs(spdf - ref_pdf) <= 1e-3 * ref_pdf
+assert np.sum(both & ~close) <= max(2, n // 1000), ("sample pdf", np.sum(both & ~close))
+same = both & close
+assert rel_rms(spdf[same], ref_pdf[same]) < tol, ("sample pdf", rel_rms(spdf[same], ref_pdf[same]))
+assert rel_rms(sweight[same], ref_weight[same]) < 10 * tol, ("weight", rel_rms(sweight[same], ref_weight[same]))
 assert np.all(sweight[~drawn] == 0)
 try:
     mi.load_dict({"type": kind, "filename": other})
@@ -99,6 +105,8 @@ def _has_cuda():
 
 
 def _run(*args, cwd=None, env=None):
+    env = dict(os.environ if env is None else env)  # PYTHONPATH absolute: some runs change folder
+    env["PYTHONPATH"] = os.pathsep.join(os.path.abspath(p) for p in env.get("PYTHONPATH", "").split(os.pathsep) if p)
     return subprocess.run([sys.executable, *map(str, args)], capture_output=True, text=True, cwd=cwd, env=env)
 
 
@@ -149,7 +157,7 @@ def test_scene_relative_material_renders_from_another_folder(textures, tmp_path)
     (scene_folder / "materials").mkdir()
     (scene_folder / "materials" / "ilm.exr").write_bytes(rgb.read_bytes())
     (scene_folder / "scene.xml").write_text(
-        '<scene version="3.0.0"><sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/>'
+        '<scene version="3.0.0"><integrator type="path"/><sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/>'
         '<integer name="height" value="8"/></film></sensor><emitter type="constant"/>'
         '<shape type="sphere"><transform name="to_world"><translate z="5"/></transform>'
         '<bsdf type="npf"><string name="filename" value="materials/ilm.exr"/></bsdf></shape></scene>')
