@@ -131,6 +131,12 @@ def _ops():
         def to_float(i):
             return float(i) if scalar else mi.Float(i)
 
+        @staticmethod
+        def single(x):
+            # Rounded to float where npf's sampler computes in float (the alias table's draw), so
+            # that the scalar variants (Python's doubles) draw npf's directions too.
+            return float(_np.float32(x)) if scalar else x
+
     return Ops
 
 
@@ -378,20 +384,21 @@ class TracedModel:
         cells, reflected. Returns a Vector3f (below the horizon: a failed draw)."""
         dr, mi, ops = self.dr, self.mi, self.ops
         pd = self.diffuse_probability
-        v_cos = dr.minimum(u2 / pd, _BELOW_ONE) if pd > 0.0 else u2
+        v_cos = ops.single(dr.minimum(u2 / pd, _BELOW_ONE)) if pd > 0.0 else u2
         light_cos = self._cosine_direction(u1, v_cos)
         if not self.sampler:
             return light_cos
-        v = dr.minimum((u2 - pd) / (1.0 - pd), _BELOW_ONE)
+        v = ops.single(dr.minimum((u2 - pd) / (1.0 - pd), _BELOW_ONE))
         n = self.cells
-        scaled = u1 * float(n)
+        scaled = ops.single(u1 * float(n))
         i = dr.minimum(dr.floor(scaled), float(n - 1))
-        f = dr.minimum(scaled - i, _BELOW_ONE)
+        f = ops.single(dr.minimum(scaled - i, _BELOW_ONE))
         i = ops.to_uint(i)
         keep = ops.gather(self.keep, i)
         kept = f < keep
         index = dr.select(kept, i, ops.gather(self.alias, i))
-        remainder = dr.minimum(dr.select(kept, f / _nonzero(dr, keep), (f - keep) / _nonzero(dr, 1.0 - keep)), _BELOW_ONE)
+        remainder = dr.select(kept, f / _nonzero(dr, keep), ops.single(f - keep) / _nonzero(dr, ops.single(1.0 - keep)))
+        remainder = dr.minimum(ops.single(remainder), _BELOW_ONE)
         k, j = index // self.d_phi, index % self.d_phi
         s0, s1 = ops.gather(self.half_sin2, k), ops.gather(self.half_sin2, k + 1)
         s = s0 + (s1 - s0) * remainder
