@@ -72,7 +72,7 @@ def check_llvm():
     DRJIT_LIBLLVM_PATH to the one found when it was not set (Dr.Jit reads it when it starts)."""
     path, version = find_llvm()
     if "DRJIT_LIBLLVM_PATH" in _os.environ:
-        if not _os.path.exists(path):
+        if _os.sep in path and not _os.path.exists(path):  # a bare name is the loader's to find
             raise _npf._error("DRJIT_LIBLLVM_PATH={}".format(path), "no such file; " + _LLVM_FIX)
         if 0 < version < 16:
             raise _npf._error("DRJIT_LIBLLVM_PATH={}".format(path), "LLVM {} aborts Dr.Jit; {}".format(version, _LLVM_FIX))
