@@ -281,8 +281,8 @@ class TracedModel:
         cx, cy, cz = iy * oz - iz * oy, iz * ox - ix * oz, ix * oy - iy * ox
         theta_d = dr.atan2(_sqrt(dr, cx * cx + cy * cy + cz * cz), 1.0 + (ix * ox + iy * oy + iz * oz))
         at = {"domain": (iz > 0.0) & (oz > 0.0), "inv_cos": 1.0 / _nonzero(dr, iz * oz), "cos_o": oz}
-        at["D"] = self.D.project(ops, self._bilinear(_clamped(ops, dr, u_h * float(self.d_theta), self.d_theta),
-                                                     _periodic(ops, dr, phi_h * _INV_TWO_PI * float(self.d_phi), self.d_phi),
+        d_col = _periodic(ops, dr, phi_h * _INV_TWO_PI * float(self.d_phi), self.d_phi) if self.d_phi > 1 else None
+        at["D"] = self.D.project(ops, self._bilinear(_clamped(ops, dr, u_h * float(self.d_theta), self.d_theta), d_col,
                                                      self.d_phi))
         for name, (x, y, z) in (("Gi", (ix, iy, iz)), ("Go", (ox, oy, oz))):
             theta = dr.atan2(_sqrt(dr, x * x + y * y), z)

@@ -42,8 +42,6 @@ using Rows3 = nb::ndarray<const double, nb::shape<-1, 3>, nb::c_contig, nb::devi
 using Rows2 = nb::ndarray<const double, nb::shape<-1, 2>, nb::c_contig, nb::device::cpu>;
 using WavelengthRows = nb::ndarray<const float, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using Array = nb::ndarray<nb::numpy, double>;
-using FloatArray = nb::ndarray<nb::numpy, float>;
-using IndexArray = nb::ndarray<nb::numpy, std::uint32_t>;
 
 PyObject* g_error_type = nullptr;
 
