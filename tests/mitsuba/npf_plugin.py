@@ -96,6 +96,7 @@ def render(bsdf, path, size, spp, seed, emitter_samples=1, bsdf_samples=0):
     start = time.perf_counter()
     image = mi.render(s)
     dr.eval(image)
+    dr.sync_thread()  # the LLVM backend launches asynchronously: wait for the render itself
     seconds = time.perf_counter() - start
     mi.Bitmap(image, channel_names=["R", "G", "B", "A"]).write(path)
     return seconds / (size * size * spp)
