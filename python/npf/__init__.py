@@ -180,6 +180,16 @@ class Material:
         nm, per_pair = _wavelengths(wavelengths, wi.shape[0])
         return self._m.sample(wi, _np.ascontiguousarray(u), nm, per_pair, _threads(threads))
 
+    def factor_tables(self):
+        """A factor texture's tables as npf shades with them (docs/format.md), for renderers that
+        evaluate the model themselves (npf.mitsuba): a dict of grid sizes (d_theta, d_phi,
+        f_theta, g_theta, g_phi), float32 arrays rho_d, rho_s (C,), F (C, f_theta), D and G as
+        {rank, basis (rank, cells), weights (C, rank)}, with a detail layer detail_grid
+        (theta_h, theta_d, phi_d) and detail; wavelengths_nm; diffuse_probability; and unless
+        that is 1 the half-vector sampler: keep, alias, density (1/sr) per D cell and half_sin2
+        (the rows' edges). npf.Error for any other source."""
+        return self._m.factor_tables()
+
     def __repr__(self):
         i = self._info
         kind = "RGB" if i["channels"] == "rgb" else "{} wavelengths".format(len(i["wavelengths_nm"]))

@@ -9,8 +9,10 @@
 #include <npf/converter/open_material.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
+#include <npf/core/float_environment.h>
 #include <npf/core/version.h>
 #include <npf/edit/edit_request.h>
+#include <npf/shading/half_vector_sampler.h>
 #include <npf/shading/npf_texture_file.h>
 
 #include <nanobind/nanobind.h>
@@ -21,6 +23,8 @@
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -48,6 +52,24 @@ Array new_array(std::initializer_list<std::size_t> shape, double*& data) {
     data = new double[std::max<std::size_t>(size, 1)];  // every element is written
     nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<double*>(p); });
     return Array(data, shape.size(), shape.begin(), owner);
+}
+
+// A new numpy array holding a copy of `values` (floats or indices), of the given shape.
+template <class T>
+nb::ndarray<nb::numpy, T> copy_array(const std::vector<T>& values, std::initializer_list<std::size_t> shape) {
+    T* data = new T[std::max<std::size_t>(values.size(), 1)];
+    std::copy(values.begin(), values.end(), data);
+    nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<T*>(p); });
+    return nb::ndarray<nb::numpy, T>(data, shape.size(), shape.begin(), owner);
+}
+
+// A spectral basis as {"rank", "basis" [rank][cells], "weights" [channels][rank]}.
+nb::dict basis_dict(const SpectralBasis& s, std::size_t channels) {
+    nb::dict d;
+    d["rank"] = s.rank;
+    d["basis"] = copy_array(s.basis, {std::size_t(s.rank), s.cells});
+    d["weights"] = copy_array(s.weights, {channels, std::size_t(s.rank)});
+    return d;
 }
 
 // The wavelengths of a call: none, one row shared by every pair, or a row per pair.
@@ -109,6 +131,54 @@ public:
             m_arrays.sample(n, wi.data(), u.data(), w, wo, pdf, weight, threads);
         }
         return {wo_array, pdf_array, weight_array};
+    }
+
+    // The factor texture's tables as the closure shades with them, and its sampler's, for
+    // renderers that evaluate the model themselves (the traced Mitsuba plugin, npf/mitsuba.py):
+    // one reader, npf's. The sampler is rebuilt from the model as the closure builds its own
+    // (HalfVectorSampler's public constructor, the same tables to the bit).
+    nb::dict factor_tables() const {
+        const NpfClosure* closure = m_arrays.closure();
+        if (!closure) {
+            throw Error(m_arrays.brdf().info().path, "is not an NPF factor texture; its tables exist only for a conversion (npf convert)");
+        }
+        const NpfModel& m = closure->model();
+        const std::size_t C = m.channel_count();
+        nb::dict d;
+        d["channels"] = m.channels.is_rgb() ? "rgb" : "spectral";
+        d["wavelengths_nm"] = copy_array(m.channels.wavelengths(), {m.channels.wavelengths().size()});
+        d["d_theta"] = m.d_theta, d["d_phi"] = m.d_phi, d["f_theta"] = m.f_theta;
+        d["g_theta"] = m.g_theta, d["g_phi"] = m.g_phi;
+        d["rho_d"] = copy_array(m.rho_d, {C});
+        d["rho_s"] = copy_array(m.rho_s, {C});
+        d["F"] = copy_array(m.F, {C, std::size_t(m.f_theta)});
+        d["D"] = basis_dict(m.D, C);
+        d["G"] = basis_dict(m.G, C);
+        if (m.has_detail()) {
+            d["detail_grid"] = nb::make_tuple(m.detail_grid.theta_h, m.detail_grid.theta_d, m.detail_grid.phi_d);
+            d["detail"] = basis_dict(m.detail, C);
+        }
+        d["diffuse_probability"] = closure->diffuse_probability();
+        if (closure->diffuse_probability() < 1.0) {
+            const ExactFloatScope exact;
+            const HalfVectorSampler sampler(HalfVectorSampler::luminance_averaged_ndf(m), m.d_theta, m.d_phi);
+            const std::vector<AliasTable::Bin>& bins = sampler.cells().bins();
+            std::vector<float> keep(bins.size()), density(bins.size());
+            std::vector<std::uint32_t> alias(bins.size());
+            for (std::size_t i = 0; i < bins.size(); ++i) {
+                keep[i] = bins[i].keep;
+                alias[i] = bins[i].alias;
+                // The solid-angle density of a half vector in cell i: HalfVectorSampler::pdf's product.
+                density[i] = float(double(bins[i].pmf) * sampler.inv_solid_angle()[i / std::size_t(m.d_phi)]);
+            }
+            nb::dict s;
+            s["keep"] = copy_array(keep, {keep.size()});
+            s["alias"] = copy_array(alias, {alias.size()});
+            s["density"] = copy_array(density, {density.size()});
+            s["half_sin2"] = copy_array(sampler.half_sin2(), {sampler.half_sin2().size()});
+            d["sampler"] = s;
+        }
+        return d;
     }
 
 private:
@@ -247,7 +317,8 @@ NB_MODULE(_npf, m) {
         .def("info", &PyMaterial::info)
         .def("eval", &PyMaterial::eval, "wi"_a, "wo"_a, "nm"_a.none(), "per_pair"_a, "cos"_a, "threads"_a)
         .def("pdf", &PyMaterial::pdf, "wi"_a, "wo"_a, "threads"_a)
-        .def("sample", &PyMaterial::sample, "wi"_a, "u"_a, "nm"_a.none(), "per_pair"_a, "threads"_a);
+        .def("sample", &PyMaterial::sample, "wi"_a, "u"_a, "nm"_a.none(), "per_pair"_a, "threads"_a)
+        .def("factor_tables", &PyMaterial::factor_tables);
     m.def("convert", &convert, "input"_a, "output"_a, "settings"_a, "progress"_a.none());
     m.def("edit", &edit, "input"_a, "output"_a, "recipe"_a, "flags"_a, "dry_run"_a);
     m.def("convert_setting_keys", &convert_setting_keys);

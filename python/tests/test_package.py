@@ -239,3 +239,22 @@ def test_convert_judges_the_lightings_asked_for(tmp_path):
     assert each["directional"][1] == float("inf")  # no Monte Carlo, no noise floor
     with pytest.raises(npf.Error, match="spotlight"):
         npf.convert(SHIPPED, tmp_path / "x.exr", preset="preview", light="spotlight")
+
+
+def test_factor_tables_are_the_files_and_the_samplers(ilm_exr, copper_exr):
+    # What npf.mitsuba shades with: the grids' sizes agree with the arrays, and the sampler's
+    # densities (1/sr per D cell) integrate to 1 over the cells' solid angles.
+    for path in (ilm_exr, copper_exr):
+        m = npf.open(path)
+        t = m.factor_tables()
+        C = len(m.channels)
+        assert t["F"].shape == (C, t["f_theta"]) and t["rho_d"].shape == (C,)
+        assert t["D"]["basis"].shape == (t["D"]["rank"], t["d_theta"] * t["d_phi"])
+        assert t["G"]["weights"].shape == (C, t["G"]["rank"])
+        assert (t["channels"] == "rgb") == m.is_rgb and len(t["wavelengths_nm"]) == len(m.wavelengths)
+        s = t["sampler"]
+        omega = 2 * np.diff(s["half_sin2"]) * 2 * np.pi / t["d_phi"]
+        assert abs(np.sum(s["density"].reshape(t["d_theta"], t["d_phi"]) * omega[:, None]) - 1) < 1e-5
+        assert np.all(s["alias"] < t["d_theta"] * t["d_phi"]) and 0 <= t["diffuse_probability"] < 1
+    with pytest.raises(npf.Error, match="not an NPF factor texture"):
+        npf.open(REPO / "data" / "materials" / "ilm_l3_37_metallic_rgb.bsdf").factor_tables()
