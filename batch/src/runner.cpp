@@ -423,7 +423,7 @@ void render_and_compare(const MaterialJob& job, const Brdf& source, const std::s
 MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
     std::error_code ec;
     MaterialResult r = result_for(job, ctx.shard);
-    const std::string fit_name = job.name + ".fit.exr", final_name = job.name + ".exr";
+    const std::string final_name = job.name + ".exr";
     try {
         apply_test_fault(job.name, ctx);
         if (!fs::is_regular_file(job.input, ec)) {
@@ -451,9 +451,9 @@ MaterialResult process_material(const MaterialJob& job, MaterialContext& ctx) {
         std::string output = job.output;  // where the output is read from below
         if (!up_to_date) {
             ConvertSettings s = resolve_convert_settings(job.settings, isotropic);
-            const ConvertReport rep = convert_material(*source, ctx.staged(fit_name), s);
-            NpfModel model = read_npf_texture(ctx.staged(fit_name));
-            fs::remove(ctx.staged(fit_name), ec);
+            Conversion conversion = convert(*source, s);
+            const ConvertReport& rep = conversion.report;
+            NpfModel model = std::move(conversion.model);
             const auto e = job.settings.find("edit");
             if (e != job.settings.end() && !e->second.value.empty()) {
                 const edit::EditRecipe recipe = edit::load_edit_recipe(e->second.value);

@@ -262,8 +262,7 @@ ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
 
 namespace {
 
-ConvertReport convert_material_stages(const Brdf& source, const std::string& output, const ConvertSettings& settings,
-                                      const std::function<void(double)>& progress) {
+Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, const std::function<void(double)>& progress) {
     const auto start = Clock::now();
     const BrdfInfo& info = source.info();
     ConvertReport report;
@@ -514,28 +513,35 @@ ConvertReport convert_material_stages(const Brdf& source, const std::string& out
     m.emplace_back("pca_d_ratio_requested", six_digits(compression.d_ratio));
     m.emplace_back("pca_g_ratio_requested", six_digits(compression.g_ratio));
 
-    t = Clock::now();
-    report.output_bytes = write_npf_texture(model, output);
-    report.seconds_writing = seconds_since(t);
-    if (progress) progress(1.0);
     report.seconds = seconds_since(start);
     report.peak_memory_gib = peak_memory_gib();
-    return report;
+    return {std::move(model), std::move(report)};
 }
 
 }  // namespace
 
-ConvertReport convert_material(const Brdf& source, const std::string& output, const ConvertSettings& settings,
-                               const std::function<void(double)>& progress) {
+Conversion convert(const Brdf& source, const ConvertSettings& settings, const std::function<void(double)>& progress) {
     // Every error names the material: a stage's own ("detail layer: ...") gets the source's path in
-    // front; the output's (writing) and the source's own stay as they are.
+    // front; the source's own stays as it is.
     const std::string& path = source.info().path;
     try {
-        return convert_material_stages(source, output, settings, progress);
+        return convert_stages(source, settings, progress);
     } catch (const Error& e) {
-        if (path.empty() || e.source() == path || e.source() == output) throw;
+        if (path.empty() || e.source() == path) throw;
         throw Error(path, e.what());
     }
+}
+
+ConvertReport convert_material(const Brdf& source, const std::string& output, const ConvertSettings& settings,
+                               const std::function<void(double)>& progress) {
+    const auto start = Clock::now();
+    Conversion c = convert(source, settings, progress ? [&progress](double f) { progress(0.99 * f); } : std::function<void(double)>{});
+    const auto t = Clock::now();
+    c.report.output_bytes = write_npf_texture(c.model, output);
+    c.report.seconds_writing = seconds_since(t);
+    if (progress) progress(1.0);
+    c.report.seconds = seconds_since(start);
+    return std::move(c.report);
 }
 
 }  // namespace npf

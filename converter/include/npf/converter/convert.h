@@ -153,9 +153,21 @@ std::vector<double> energy_error_views_deg();
 // five times the energy check's accuracy (about 2e-3), so that no quadrature error triggers it.
 inline constexpr double kGainsLightAlbedo = 1.01;
 
-// Fits `source`, compresses, measures and writes `output` (NPF EXR, docs/format.md); with
-// settings.target_psnr, searches the detail ladder first (ConvertSettings). The progress callback
-// gets the fraction done. Throws npf::Error (no file is left at `output`).
+// A conversion: the model, with the metadata a factor texture of it stores (docs/format.md),
+// and the report of how it was made.
+struct Conversion {
+    NpfModel model;
+    ConvertReport report;
+};
+
+// Fits `source`, compresses and measures it; with settings.target_psnr, searches the detail
+// ladder first (ConvertSettings). Writes nothing: the caller writes the model
+// (write_npf_texture), edits it first, or shades it as it is. The progress callback gets the
+// fraction done. Throws npf::Error naming the source.
+Conversion convert(const Brdf& source, const ConvertSettings& settings, const std::function<void(double)>& progress = {});
+
+// convert(), then the model written to `output` (NPF EXR; report.output_bytes and
+// seconds_writing filled). Throws npf::Error (no file is left at `output`).
 ConvertReport convert_material(const Brdf& source, const std::string& output, const ConvertSettings& settings,
                                const std::function<void(double)>& progress = {});
 
