@@ -1,4 +1,5 @@
 #include <npf/core/clamp.h>
+#include <npf/converter/material_formats.h>
 #include <npf/converter/rgl_brdf.h>
 #include "rgl_u_space.h"
 #include <npf/core/brdf.h>
@@ -475,6 +476,15 @@ bool RglBrdf::sample(const Vec3& wi_in, const Vec2& u, const ChannelQuery& query
         for (std::size_t k = 0; k < query.size(); ++k) weight[k] *= factor;
     }
     return true;
+}
+
+// RGL's tensor files (docs/rgl-format.md), by their magic.
+MaterialFormat rgl_material_format() {
+    MaterialFormat f;
+    f.described_as = "an RGL tensor_file";
+    f.claims_file = [](const MaterialFileHead& h) { return TensorFile::has_magic(h.bytes, h.count); };
+    f.open = [](const std::string& path) -> std::unique_ptr<Brdf> { return RglBrdf::load(path); };
+    return f;
 }
 
 }  // namespace npf
