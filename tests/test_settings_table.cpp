@@ -6,6 +6,7 @@
 
 #include <npf/batch/config.h>
 #include <npf/converter/convert_settings_table.h>
+#include <npf/core/number_text.h>
 #include <npf/core/error.h>
 
 #include <gtest/gtest.h>
@@ -283,6 +284,40 @@ TEST(SettingsTable, CliFlagsAndBatchKeysAcceptTheSameValues) {
             EXPECT_NO_THROW(batch_settings("{" + row.key + ": false}"));
             EXPECT_THROW(batch_settings("{" + row.key + ": maybe}"), Error);
         }
+    }
+}
+
+// `npf convert --help` states the defaults the code uses: read from the presets, not written by
+// hand (a help line once said --detail-weight defaulted to 1.17 while the code used 0.4).
+TEST(SettingsTable, HelpStatesTheDefaultsTheCodeUses) {
+    const npf::ConvertSettings production = npf::preset_settings(npf::ConvertPreset::Production, true);
+    const ConvertSettingRow* weight = npf::find_setting(convert_settings_table(), "detail_weight");
+    ASSERT_TRUE(weight);
+    EXPECT_TRUE(contains(npf::setting_help(*weight), "(default: " + npf::exact_number_text(production.detail.display_power) + ")"))
+        << npf::setting_help(*weight);
+    for (const ConvertSettingRow& row : convert_settings_table()) {
+        if (!row.read || row.kind == SettingKind::Switch) continue;
+        const std::string value = npf::setting_default(row, npf::ConvertPreset::Production, true);
+        const std::string help = npf::setting_help(row);
+        const std::size_t at = help.find("(default: ");
+        bool valid = !value.empty();
+        try {
+            if (valid) npf::check_setting(row, value, row.key);
+        } catch (const Error&) {
+            valid = false;
+        }
+        if (!valid) {
+            EXPECT_EQ(at, std::string::npos) << row.key << ": an unset default is not stated: " << help;
+            continue;
+        }
+        ASSERT_NE(at, std::string::npos) << row.key << ": " << help;
+        std::string shown = help.substr(at + 10);
+        shown = shown.substr(0, shown.find_first_of(";)"));
+        const auto numbers = npf::parse_number_list(value);
+        if (numbers) EXPECT_EQ(npf::parse_number_list(shown), numbers) << row.key << ": " << help;
+        else EXPECT_EQ(shown, value) << row.key << ": " << help;
+        // Nothing hand-written beside it.
+        EXPECT_EQ(help.find("default"), at + 1) << row.key << ": " << help;
     }
 }
 

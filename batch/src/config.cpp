@@ -401,11 +401,6 @@ bool number_and_unit(const std::string& v, double& number, std::string& unit) {
     return end != t.c_str() && std::isfinite(number);
 }
 
-std::string shortest(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.4g", v);
-    return b;
-}
 
 }  // namespace
 
@@ -450,7 +445,7 @@ std::string describe_memory(std::uint64_t bytes) {
     static const char* names[] = {"KiB", "MiB", "GiB", "TiB"};
     int i = 3;
     while (i > 0 && double(bytes) < std::ldexp(1.0, 10 * (i + 1))) --i;
-    return shortest(double(bytes) / std::ldexp(1.0, 10 * (i + 1))) + " " + names[i];
+    return number_text(double(bytes) / std::ldexp(1.0, 10 * (i + 1)), 4) + " " + names[i];
 }
 
 std::string describe_seconds(double seconds) {

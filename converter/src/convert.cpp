@@ -139,7 +139,7 @@ double parse_target_psnr(const std::string& text, const std::string& what) {
 }
 
 void check_target_psnr(double db, const std::string& what) {
-    if (!(std::isfinite(db) && db > 0.0)) throw Error(what, "a target PSNR must be a finite number of dB above 0, got " + six_digits(db));
+    if (!(std::isfinite(db) && db > 0.0)) throw Error(what, "a target PSNR must be a finite number of dB above 0, got " + number_text(db));
 }
 
 std::vector<DetailGrid> default_target_ladder() {
@@ -434,18 +434,18 @@ Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, c
     m.emplace_back("fit_samples", std::to_string(report.fit.samples));
     settings_lines(4, 10);
     m.emplace_back("fit_iterations", std::to_string(most_iterations));
-    m.emplace_back("fit_weighted_error_max", six_digits(worst_weighted));
+    m.emplace_back("fit_weighted_error_max", number_text(worst_weighted));
     m.emplace_back("fit_invalid_values", std::to_string(report.fit.invalid_values));
     settings_lines(11, 11);
     if (settings.error_pairs > 0) {
-        m.emplace_back("error_fitted_rel_rms_mean", six_digits(report.fitted_error.mean_relative_rms));
-        m.emplace_back("error_fitted_rel_rms_max", six_digits(report.fitted_error.max_relative_rms));
-        m.emplace_back("error_rel_rms_mean", six_digits(report.compressed_error.mean_relative_rms));
-        m.emplace_back("error_rel_rms_max", six_digits(report.compressed_error.max_relative_rms));
+        m.emplace_back("error_fitted_rel_rms_mean", number_text(report.fitted_error.mean_relative_rms));
+        m.emplace_back("error_fitted_rel_rms_max", number_text(report.fitted_error.max_relative_rms));
+        m.emplace_back("error_rel_rms_mean", number_text(report.compressed_error.mean_relative_rms));
+        m.emplace_back("error_rel_rms_max", number_text(report.compressed_error.max_relative_rms));
         const BrdfComparisonResult::Worst& w = report.held_out.worst;
-        m.emplace_back("error_held_out_rel_rms", six_digits(report.held_out.relative_rms));
-        m.emplace_back("error_held_out_rel_rms_60", six_digits(report.held_out.relative_rms_60));
-        m.emplace_back("error_held_out_largest", six_digits(w.test) + " against " + six_digits(w.reference) + " (" +
+        m.emplace_back("error_held_out_rel_rms", number_text(report.held_out.relative_rms));
+        m.emplace_back("error_held_out_rel_rms_60", number_text(report.held_out.relative_rms_60));
+        m.emplace_back("error_held_out_largest", number_text(w.test) + " against " + number_text(w.reference) + " (" +
                                                      report.channels.name(w.channel) + ") at pair " +
                                                      std::to_string(w.pair + 1) + " of " +
                                                      std::to_string(report.held_out.pairs));
@@ -453,8 +453,8 @@ Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, c
     m.emplace_back("compression_rule", settings.compression.per_channel ? "per-channel" : "total");
     m.emplace_back("horizon_closed", settings.close_horizon ? std::to_string(report.horizon_columns_closed) + " columns" : "no");
     if (report.detail_not_kept) {
-        m.emplace_back("detail_not_kept", "held-out relative RMS of f_r cos " + six_digits(report.detail_not_kept_held_out_rms) +
-                                              " with it, " + six_digits(report.held_out.relative_rms) + " without");
+        m.emplace_back("detail_not_kept", "held-out relative RMS of f_r cos " + number_text(report.detail_not_kept_held_out_rms) +
+                                              " with it, " + number_text(report.held_out.relative_rms) + " without");
     }
     if (report.has_detail) {
         const DetailGrid& dg = model.detail_grid;
@@ -462,56 +462,56 @@ Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, c
         m.emplace_back("detail_grid", std::to_string(dg.theta_h) + "x" + std::to_string(dg.theta_d) + "x" +
                                           std::to_string(dg.phi_d));
         m.emplace_back("detail_samples_per_cell", std::to_string(d.samples_per_cell));
-        m.emplace_back("detail_display_power", six_digits(d.display_power));
-        m.emplace_back("detail_energy_weight", six_digits(d.energy_weight));
+        m.emplace_back("detail_display_power", number_text(d.display_power));
+        m.emplace_back("detail_energy_weight", number_text(d.energy_weight));
         m.emplace_back("detail_measure", d.measure == DetailOptions::Measure::SolidAngle ? "solid-angle" : "half-angle");
         m.emplace_back("detail_clamp_passes", std::to_string(d.clamp_passes));
         m.emplace_back("detail_rank", std::to_string(model.detail.rank));
-        m.emplace_back("detail_weighted_error_before", six_digits(report.detail.weighted_error_before));
-        m.emplace_back("detail_weighted_error_after", six_digits(report.detail.weighted_error_after));
-        m.emplace_back("detail_energy_error_before", six_digits(report.detail.energy_error_before));
-        m.emplace_back("detail_energy_error_after", six_digits(report.detail.energy_error_after));
+        m.emplace_back("detail_weighted_error_before", number_text(report.detail.weighted_error_before));
+        m.emplace_back("detail_weighted_error_after", number_text(report.detail.weighted_error_after));
+        m.emplace_back("detail_energy_error_before", number_text(report.detail.energy_error_before));
+        m.emplace_back("detail_energy_error_after", number_text(report.detail.energy_error_after));
         if (settings.error_pairs > 0) {
-            m.emplace_back("error_detailed_rel_rms_mean", six_digits(report.detailed_error.mean_relative_rms));
-            m.emplace_back("error_detailed_rel_rms_max", six_digits(report.detailed_error.max_relative_rms));
+            m.emplace_back("error_detailed_rel_rms_mean", number_text(report.detailed_error.mean_relative_rms));
+            m.emplace_back("error_detailed_rel_rms_max", number_text(report.detailed_error.max_relative_rms));
         }
     }
-    m.emplace_back(npf_exr::kMetaAlbedoMax, six_digits(report.albedo_max));
-    m.emplace_back(npf_exr::kMetaAlbedoMaxViewTheta, six_digits(report.albedo_max_theta_deg));
+    m.emplace_back(npf_exr::kMetaAlbedoMax, number_text(report.albedo_max));
+    m.emplace_back(npf_exr::kMetaAlbedoMaxViewTheta, number_text(report.albedo_max_theta_deg));
     {
         std::string views;
-        for (double v : energy_error_views_deg()) views += (views.empty() ? "" : ",") + six_digits(v);
-        m.emplace_back("energy_error", six_digits(report.energy_error));
-        m.emplace_back("energy_error_view_theta", six_digits(report.energy_error_theta_deg));
+        for (double v : energy_error_views_deg()) views += (views.empty() ? "" : ",") + number_text(v);
+        m.emplace_back("energy_error", number_text(report.energy_error));
+        m.emplace_back("energy_error_view_theta", number_text(report.energy_error_theta_deg));
         m.emplace_back("energy_error_channel", report.channels.name(report.energy_error_channel));
         m.emplace_back("energy_error_views", views);
     }
     // The file's own size is not known before it is written; the source's is.
     if (report.input_bytes > 0) m.emplace_back("source_bytes", std::to_string(report.input_bytes));
     if (report.predicted) {
-        m.emplace_back("predicted_psnr", six_digits(report.prediction.psnr));
-        if (report.prediction.floor_psnr != 0.0) m.emplace_back("predicted_psnr_floor", six_digits(report.prediction.floor_psnr));
+        m.emplace_back("predicted_psnr", number_text(report.prediction.psnr));
+        if (report.prediction.floor_psnr != 0.0) m.emplace_back("predicted_psnr_floor", number_text(report.prediction.floor_psnr));
         m.emplace_back("predicted_psnr_render", report.prediction_settings);
         // A set: each lighting's figures too (predicted_psnr is the worst of them).
         if (report.prediction.lightings.size() > 1) {
             for (const LightingPrediction& l : report.prediction.lightings) {
-                m.emplace_back("predicted_psnr_" + l.lighting, six_digits(l.psnr));
-                if (l.floor_psnr != 0.0) m.emplace_back("predicted_psnr_" + l.lighting + "_floor", six_digits(l.floor_psnr));
+                m.emplace_back("predicted_psnr_" + l.lighting, number_text(l.psnr));
+                if (l.floor_psnr != 0.0) m.emplace_back("predicted_psnr_" + l.lighting + "_floor", number_text(l.floor_psnr));
             }
         }
     }
     if (target) {
         std::string tried;
         for (const ConvertReport::TargetCandidate& c : report.target_candidates) {
-            tried += (tried.empty() ? "" : " ") + grid_text(c.grid) + ":" + six_digits(c.psnr);
+            tried += (tried.empty() ? "" : " ") + grid_text(c.grid) + ":" + number_text(c.psnr);
         }
-        m.emplace_back("target_psnr", six_digits(settings.target_psnr));
+        m.emplace_back("target_psnr", number_text(settings.target_psnr));
         m.emplace_back("target_psnr_met", report.target_met ? "true" : "false");
-        m.emplace_back("target_psnr_reached", six_digits(report.prediction.psnr));
+        m.emplace_back("target_psnr_reached", number_text(report.prediction.psnr));
         m.emplace_back("target_psnr_candidates", tried);
     }
-    m.emplace_back("pca_d_ratio_requested", six_digits(compression.d_ratio));
-    m.emplace_back("pca_g_ratio_requested", six_digits(compression.g_ratio));
+    m.emplace_back("pca_d_ratio_requested", number_text(compression.d_ratio));
+    m.emplace_back("pca_g_ratio_requested", number_text(compression.g_ratio));
 
     report.seconds = seconds_since(start);
     report.peak_memory_gib = peak_memory_gib();

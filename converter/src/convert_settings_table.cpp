@@ -23,11 +23,7 @@ using Range = ConvertSettingRow::Range;
 constexpr double kAny = std::numeric_limits<double>::infinity();
 
 // Numbers in hash text: every digit (content hash version 1).
-std::string g17(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return b;
-}
+std::string g17(double v) { return number_text(v, 17); }
 
 std::vector<std::string> split(const std::string& v, char separator) {
     std::vector<std::string> out;
@@ -113,7 +109,7 @@ ConvertSettingsTable make_table() {
     Row r;
 
     r = hashed(choice("preset", {"preview", "production", "fine", "paper"},
-                      "preview, production (default), fine or paper (the paper's pure model; docs/fitting.md)"), 0);
+                      "preview, production, fine or paper (the paper's pure model; docs/fitting.md)"), 0);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.preset = parse_convert_preset(v.text, "preset"); };
     r.read = [](const ConvertSettings& s) { return std::string(convert_preset_name(s.preset)); };
     r.metadata_order = 1;
@@ -121,18 +117,18 @@ ConvertSettingsTable make_table() {
     t.push_back(r);
 
     r = hashed(text("wavelengths", [](const std::string& v, const std::string& what) { parse_channel_list(v, what); },
-                    "channels to fit: rgb, start:end:count or a,b,c nm (default: the source's)"), 14);
+                    "channels to fit: rgb, start:end:count or a,b,c nm (unset: the source's own)"), 14);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.wavelengths = v.text; };
     r.read = [](const ConvertSettings& s) { return s.wavelengths; };
     t.push_back(r);
 
-    r = hashed(whole("max_wavelengths", {{0, 100000}}, "keep at most this many of the source's wavelengths, evenly spread"), 15);
+    r = hashed(whole("max_wavelengths", {{0, 100000}}, "keep at most this many of the source's wavelengths, evenly spread (0: all)"), 15);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.max_wavelengths = int(v.numbers[0]); };
     r.read = [](const ConvertSettings& s) { return std::to_string(s.max_wavelengths); };
     t.push_back(r);
 
     // Also read before the preset: it decides the preset's grids (resolve_convert_settings).
-    r = hashed(choice("isotropy", {"auto", "isotropic", "anisotropic"}, "auto (default: as the source), isotropic or anisotropic"), 16);
+    r = hashed(choice("isotropy", {"auto", "isotropic", "anisotropic"}, "auto (as the source), isotropic or anisotropic"), 16);
     r.apply = [](ConvertSettings& s, const SettingValue& v) {
         s.isotropy = v.text == "isotropic" ? Isotropy::Isotropic : v.text == "anisotropic" ? Isotropy::Anisotropic : Isotropy::Auto;
     };
@@ -190,13 +186,13 @@ ConvertSettingsTable make_table() {
     t.push_back(r);
 
     r = choice("pca_rule", {"per-channel", "total"},
-               "per-channel (default; the paper preset: total): the --pca ratio holds for every channel's table, so a "
+               "per-channel: the --pca ratio holds for every channel's table, so a "
                "colour that shifts with angle keeps its component, or total (the paper's rule: for all channels together)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.compression.per_channel = v.text == "per-channel"; };
     r.read = [](const ConvertSettings& s) { return std::string(s.compression.per_channel ? "per-channel" : "total"); };
     t.push_back(r);
 
-    r = hashed(whole("rank", {{1, 100000}, {1, 100000}}, "fixed SVD ranks D,G (overrides --pca)"), 13);
+    r = hashed(whole("rank", {{1, 100000}, {1, 100000}}, "fixed SVD ranks D,G (overrides --pca; unset: --pca decides)"), 13);
     r.takes_list = true;
     r.apply = [](ConvertSettings& s, const SettingValue& v) {
         s.compression.d_rank = int(v.numbers[0]);
@@ -228,8 +224,8 @@ ConvertSettingsTable make_table() {
     r.metadata = [](const ConvertSettings& s) {
         const AwlsOptions& o = s.fit;
         return Lines{{"fit_importance_power", o.importance_power_view == o.importance_power_light
-                                                  ? six_digits(o.importance_power_view)
-                                                  : six_digits(o.importance_power_view) + "," + six_digits(o.importance_power_light)}};
+                                                  ? number_text(o.importance_power_view)
+                                                  : number_text(o.importance_power_view) + "," + number_text(o.importance_power_light)}};
     };
     t.push_back(r);
 
@@ -237,17 +233,17 @@ ConvertSettingsTable make_table() {
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.compressive_power = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.fit.compressive_power); };
     r.metadata_order = 6;
-    r.metadata = [](const ConvertSettings& s) { return Lines{{"fit_compressive_power", six_digits(s.fit.compressive_power)}}; };
+    r.metadata = [](const ConvertSettings& s) { return Lines{{"fit_compressive_power", number_text(s.fit.compressive_power)}}; };
     t.push_back(r);
 
     r = hashed(number("epsilon", 1, 1, {{0, kAny, true}}, "must be positive", "w_C epsilon (1/sr)"), 7);
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.compressive_epsilon = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.fit.compressive_epsilon); };
     r.metadata_order = 7;
-    r.metadata = [](const ConvertSettings& s) { return Lines{{"fit_compressive_epsilon", six_digits(s.fit.compressive_epsilon)}}; };
+    r.metadata = [](const ConvertSettings& s) { return Lines{{"fit_compressive_epsilon", number_text(s.fit.compressive_epsilon)}}; };
     t.push_back(r);
 
-    r = hashed(choice("volume_weight", {"paper", "three-angle"}, "paper (default) or three-angle (Bagher et al.)"), 4);
+    r = hashed(choice("volume_weight", {"paper", "three-angle"}, "paper or three-angle (Bagher et al.)"), 4);
     r.apply = [](ConvertSettings& s, const SettingValue& v) {
         s.fit.volume_weight = v.text == "paper" ? VolumeWeight::Paper : VolumeWeight::ThreeAngle;
     };
@@ -270,7 +266,7 @@ ConvertSettingsTable make_table() {
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.tolerance = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.fit.tolerance); };
     r.metadata_order = 9;
-    r.metadata = [](const ConvertSettings& s) { return Lines{{"fit_tolerance", six_digits(s.fit.tolerance)}}; };
+    r.metadata = [](const ConvertSettings& s) { return Lines{{"fit_tolerance", number_text(s.fit.tolerance)}}; };
     t.push_back(r);
 
     r = hashed(choice("g_prior", {"smith", "smith-start", "bounded", "free"},
@@ -303,7 +299,7 @@ ConvertSettingsTable make_table() {
         return Lines{{"fit_acceleration", a == AwlsOptions::Acceleration::Anderson     ? "anderson"
                                           : a == AwlsOptions::Acceleration::LineSearch ? "line-search"
                                                                                        : "none"},
-                     {"fit_g_pin", six_digits(s.fit.g_pin)}};
+                     {"fit_g_pin", number_text(s.fit.g_pin)}};
     };
     t.push_back(r);
 
@@ -319,26 +315,26 @@ ConvertSettingsTable make_table() {
     r.read = [](const ConvertSettings& s) { return s.detail.grid.empty() ? std::string("none") : grid_text(s.detail.grid, ','); };
     t.push_back(r);
 
-    r = number("detail_energy", 1, 1, {{0, kAny}}, "must not be negative", "weight of the detail fit's energy term (0: none; default 1e4)");
+    r = number("detail_energy", 1, 1, {{0, kAny}}, "must not be negative", "weight of the detail fit's energy term (0: none)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.energy_weight = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.detail.energy_weight); };
     t.push_back(r);
 
     r = choice("horizon", {"closed", "open"},
-               "closed (default; preview and production: G falls to 0 at the horizon, no light gained at silhouettes) or open (G "
+               "closed (G falls to 0 at the horizon, no light gained at silhouettes) or open (G "
                "as fitted; the paper preset)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.close_horizon = v.text == "closed"; };
     r.read = [](const ConvertSettings& s) { return std::string(s.close_horizon ? "closed" : "open"); };
     t.push_back(r);
 
     r = number("detail_weight", 1, 1, {{0, 4}}, "must lie in [0, 4]",
-               "power p of the detail fit's display weight (f + eps)^-p (default 0.4; 0: plain least squares)");
+               "power p of the detail fit's display weight (f + eps)^-p (0: plain least squares)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.display_power = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.detail.display_power); };
     t.push_back(r);
 
     r = choice("detail_measure", {"half-angle", "solid-angle"},
-               "half-angle (default but for the preview preset: every half-vector angle counts alike, so a narrow peak keeps its height) or "
+               "half-angle (every half-vector angle counts alike, so a narrow peak keeps its height) or "
                "solid-angle (Rusinkiewicz's cell measure: a peak narrower than a degree weighs almost nothing)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) {
         s.detail.measure = v.text == "solid-angle" ? DetailOptions::Measure::SolidAngle : DetailOptions::Measure::HalfAngle;
@@ -349,7 +345,7 @@ ConvertSettingsTable make_table() {
     t.push_back(r);
 
     r = whole("detail_clamp_passes", {{0, 16}},
-              "refits of the detail layer's energy targets to the clamped model max(0, NPF + r) (default 8; 0: none)");
+              "refits of the detail layer's energy targets to the clamped model max(0, NPF + r) (0: none)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.clamp_passes = int(v.numbers[0]); };
     r.read = [](const ConvertSettings& s) { return std::to_string(s.detail.clamp_passes); };
     t.push_back(r);
@@ -384,8 +380,7 @@ ConvertSettingsTable make_table() {
     t.push_back(r);
 
     r = text("target_grids", [](const std::string& v, const std::string& what) { parse_detail_ladder(v, what); },
-             "with --target-psnr: the detail grids to try after none, growing (default "
-             "16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64)");
+             "with --target-psnr: the detail grids to try after none, growing");
     r.takes_list = true;
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.target_ladder = parse_detail_ladder(v.text, "target_grids"); };
     r.read = [](const ConvertSettings& s) {
@@ -406,12 +401,12 @@ ConvertSettingsTable make_table() {
     // In the hash only when it differs from the preset's set: earlier outputs stay up to date.
     r = text("light", [](const std::string& v, const std::string& what) { render::parse_lighting_list(v, what); },
              "lightings the predicted PSNR judges (and --target-psnr meets), comma-separated: studio, key-rim, directional "
-             "or a lat-long map file (default: all three, the worst counts; paper preset: studio)");
+             "or a lat-long map file (the worst counts)");
     r.takes_list = true;
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.prediction.lightings = render::parse_lighting_list(v.text, "light"); };
     r.read = [](const ConvertSettings& s) { return join(s.prediction.lightings, ","); };
     t.push_back(r);
-    r = whole("threads", {{1, 1024}}, "threads (default: all cores)");
+    r = whole("threads", {{1, 1024}}, "threads (unset: all cores)");
     r.hash = SettingHash::Never;
     r.changes_output = false;
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.fit.threads = int(v.numbers[0]); };
@@ -490,6 +485,42 @@ SettingValue check_setting(const ConvertSettingRow& row, const std::string& v, c
 
 std::string setting_default(const ConvertSettingRow& row, ConvertPreset preset, bool isotropic) {
     return row.read(preset_settings(preset, isotropic));
+}
+
+namespace {
+
+// A preset's value as help shows it: numbers as short as they read back ("0.99", not the hash's
+// 17 digits), and "unset" for a value the setting would refuse (a rank of 0: --pca decides).
+std::string help_value(const ConvertSettingRow& row, const std::string& value) {
+    try {
+        if (value.empty()) return "unset";
+        check_setting(row, value, row.key);
+    } catch (const Error&) {
+        return "unset";
+    }
+    const std::optional<std::vector<double>> numbers = parse_number_list(value);
+    if (!numbers) return value;
+    std::string text;
+    for (double v : *numbers) text += (text.empty() ? "" : ",") + exact_number_text(v);
+    return text;
+}
+
+}  // namespace
+
+std::string setting_help(const ConvertSettingRow& row) {
+    if (!row.read || row.kind == SettingKind::Switch) return row.help;
+    const std::string production = help_value(row, setting_default(row, ConvertPreset::Production, true));
+    std::string others;
+    if (row.key != "preset") {  // every preset names itself
+        for (const ConvertPreset p : {ConvertPreset::Preview, ConvertPreset::Fine, ConvertPreset::Paper}) {
+            const std::string v = help_value(row, setting_default(row, p, true));
+            if (v != production) others += std::string("; ") + convert_preset_name(p) + ": " + v;
+        }
+        const std::string anisotropic = help_value(row, setting_default(row, ConvertPreset::Production, false));
+        if (anisotropic != production) others += "; production for anisotropic sources: " + anisotropic;
+    }
+    if (production == "unset" && others.empty()) return row.help;  // the help says what unset means
+    return row.help + " (default: " + production + others + ")";
 }
 
 ConvertSettings resolve_convert_settings(const ConvertSettingsTable& table,

@@ -3,6 +3,7 @@
 #include <npf/converter/nbrdf_brdf.h>
 #include <npf/converter/material_formats.h>
 
+#include <npf/core/number_text.h>
 #include <npf/core/cosine_sampling.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
@@ -740,10 +741,10 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::load(const std::string& path) {
                       "exp(output) - 1 by interval arithmetic over " + std::to_string(bound.boxes) +
                           " boxes of direction pairs, x cos(theta_i) cos(theta_o)");
     if (!(bound.activation <= kMaxActivation))
-        throw Error(path, "a unit of the network can reach " + six_digits(bound.activation) +
+        throw Error(path, "a unit of the network can reach " + number_text(bound.activation) +
                               ", beyond the 1e30 within which its float evaluation cannot overflow: refused as corrupt");
     if (!(bound.output <= kMaxOutput))
-        throw Error(path, "the network's output x can reach " + six_digits(bound.output) +
+        throw Error(path, "the network's output x can reach " + number_text(bound.output) +
                               ", and exp(x) - 1 overflows single precision above 88: refused as corrupt");
 
     const int n1 = brdf->m_layers[0].units, n2 = brdf->m_layers[1].units;

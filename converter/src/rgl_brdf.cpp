@@ -1,3 +1,4 @@
+#include <npf/core/number_text.h>
 #include <npf/core/clamp.h>
 #include <npf/converter/material_formats.h>
 #include <npf/converter/rgl_brdf.h>
@@ -256,7 +257,7 @@ std::unique_ptr<RglBrdf> RglBrdf::from_tensor_file(const TensorFile& file) {
     const double bound = !b->m_jacobian ? data_max
                          : data_max == 0.0 || ndf_max == 0.f ? 0.0
                                                              : data_max * double(ndf_max) / (4.0 * double(sigma_min));
-    check_value_bound(src, bound, b->m_jacobian ? "data x ndf / (4 sigma), sigma down to " + six_digits(sigma_min) : "data");
+    check_value_bound(src, bound, b->m_jacobian ? "data x ndf / (4 sigma), sigma down to " + number_text(sigma_min) : "data");
 
     BrdfInfo& info = b->m_info;
     info.value_bound = bound;

@@ -1,3 +1,4 @@
+#include <npf/core/number_text.h>
 #include <npf/core/cosine_sampling.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
@@ -36,11 +37,6 @@ Vec2 cell_point(int i, int j, int n, std::uint64_t strategy) {
 
 bool usable_pdf(float p) { return p > 0.f && std::isfinite(p); }
 
-std::string number_text(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
 
 }  // namespace
 

@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace npf {
@@ -56,6 +57,25 @@ double parse_finite_number(const std::string& text, const std::string& what) {
     const std::optional<double> d = finite_number_of(text);
     if (!d) throw Error(what, "'" + text + "' is not a number");
     return *d;
+}
+
+std::string number_text(double v, int significant_digits) {
+    char b[48];
+    std::snprintf(b, sizeof b, "%.*g", significant_digits, v);
+    return b;
+}
+
+std::string exact_number_text(double v) {
+    if (std::isfinite(v) && v == std::trunc(v) && std::fabs(v) < 1e15) {  // "90", not "9e+01"
+        char b[32];
+        std::snprintf(b, sizeof b, "%.0f", v);
+        return b;
+    }
+    for (int digits = 1; digits < 17; ++digits) {
+        const std::string text = number_text(v, digits);
+        if (std::strtod(text.c_str(), nullptr) == v) return text;
+    }
+    return number_text(v, 17);
 }
 
 std::optional<std::vector<double>> parse_number_list(const std::string& text) {

@@ -1,3 +1,4 @@
+#include <npf/core/number_text.h>
 #include <npf/edit/albedo_limit.h>
 
 #include "tables.h"
@@ -169,10 +170,10 @@ constexpr double kCapTolerance = 0.01;
 
 NpfModel limit_albedo(const NpfModel& model, const AlbedoLimit& limit, EditRecord* record) {
     if (!(limit.cap > 0.0 && limit.cap <= 1.0)) {
-        throw Error("limit_albedo", "the cap must be in (0, 1], got " + detail::num(limit.cap));
+        throw Error("limit_albedo", "the cap must be in (0, 1], got " + number_text(limit.cap));
     }
     if (!(limit.margin >= 0.0 && limit.margin < 0.1)) {
-        throw Error("limit_albedo", "the margin must be in [0, 0.1), got " + detail::num(limit.margin));
+        throw Error("limit_albedo", "the margin must be in [0, 0.1), got " + number_text(limit.margin));
     }
     if (limit.passes < 1 || limit.passes > 16) {
         throw Error("limit_albedo", "passes must be in 1..16, got " + std::to_string(limit.passes));
@@ -210,24 +211,24 @@ NpfModel limit_albedo(const NpfModel& model, const AlbedoLimit& limit, EditRecor
     // at grazing views of sharp lobes (docs/editing.md).
     const EnergyCheck e = energy_check(out, limit.threads);
     if (!(e.albedo_max <= limit.cap * (1.0 + kCapTolerance))) {
-        throw Error("limit_albedo", "the cap " + detail::num(limit.cap) + " is not met: the capped material's albedo still reaches " +
-                                        detail::num(e.albedo_max, 4) + " (view " + detail::num(e.theta_deg, 4) + " deg)");
+        throw Error("limit_albedo", "the cap " + number_text(limit.cap) + " is not met: the capped material's albedo still reaches " +
+                                        number_text(e.albedo_max, 4) + " (view " + number_text(e.theta_deg, 4) + " deg)");
     }
     // npf convert's energy metadata describes what the file holds: measured again.
     if (has_metadata(out, npf_exr::kMetaAlbedoMax) && (scaled > 0 || diffuse_capped > 0)) {
-        set_metadata(out, npf_exr::kMetaAlbedoMax, detail::num(e.albedo_max));
-        set_metadata(out, npf_exr::kMetaAlbedoMaxViewTheta, detail::num(e.theta_deg));
+        set_metadata(out, npf_exr::kMetaAlbedoMax, number_text(e.albedo_max));
+        set_metadata(out, npf_exr::kMetaAlbedoMaxViewTheta, number_text(e.theta_deg));
     }
 
     if (record) {
-        std::string s = "cap " + detail::num(limit.cap) + ": largest albedo at the " + std::to_string(capper.cells) +
-                        " G cell centres " + detail::num(before, 4) + " before; ";
+        std::string s = "cap " + number_text(limit.cap) + ": largest albedo at the " + std::to_string(capper.cells) +
+                        " G cell centres " + number_text(before, 4) + " before; ";
         if (scaled == 0) {
             s += "no cell scaled";
         } else {
             s += std::to_string(scaled) + " of " + std::to_string(capper.cells) + " G cells scaled (views " +
-                 detail::num(theta_lo, 4) + " to " + detail::num(theta_hi, 4) + " deg), smallest factor " +
-                 detail::num(smallest, 4);
+                 number_text(theta_lo, 4) + " to " + number_text(theta_hi, 4) + " deg), smallest factor " +
+                 number_text(smallest, 4);
         }
         if (horizon_steps > 0) {
             s += "; the last half cell before the horizon lowered (" + std::to_string(horizon_steps) + " cell steps)";

@@ -1,3 +1,4 @@
+#include <npf/core/number_text.h>
 #include <npf/edit/recipe.h>
 
 #include "history.h"
@@ -69,17 +70,17 @@ EditResult apply_edits(const NpfModel& model, const std::vector<EditStep>& steps
         if (options.check_albedo) {
             // An edit that changed nothing (an identity) keeps the last measurement.
             const AlbedoPeak a = same_factors(before, r.model) ? r.output_albedo : npf_largest_albedo(r.model, options.albedo);
-            const std::string where = "theta_i " + detail::num(a.theta_deg, 3) + " deg, phi_i " + detail::num(a.phi_deg, 3) +
+            const std::string where = "theta_i " + number_text(a.theta_deg, 3) + " deg, phi_i " + number_text(a.phi_deg, 3) +
                                       " deg, channel " + std::to_string(a.channel);
-            rec.summary += "; largest directional albedo " + detail::num(a.max, 4) + " (" + where + ")";
+            rec.summary += "; largest directional albedo " + number_text(a.max, 4) + " (" + where + ")";
             // A warning when this step takes the albedo above the limit, or, where the material
             // already exceeded it (a fit gaining light at grazing views), raises it by more than
             // the tolerance again: a step that leaves a known excess alone is not blamed for it.
             const double previous = r.output_albedo.max;
             if (a.max > limit && (previous <= limit || a.max > previous + options.albedo_tolerance)) {
-                std::string w = "the directional albedo reaches " + detail::num(a.max, 4) + " (" + where +
+                std::string w = "the directional albedo reaches " + number_text(a.max, 4) + " (" + where +
                                 "): the material reflects more light than it receives";
-                if (r.input_albedo.max > limit) w += " (the input already reached " + detail::num(r.input_albedo.max, 4) + ")";
+                if (r.input_albedo.max > limit) w += " (the input already reached " + number_text(r.input_albedo.max, 4) + ")";
                 rec.warnings.push_back(w);
             }
             r.output_albedo = a;

@@ -1,3 +1,4 @@
+#include <npf/core/number_text.h>
 #include <npf/edit/colour_edits.h>
 
 #include "tables.h"
@@ -20,7 +21,7 @@ bool same_channels(const Channels& a, const Channels& b) {
 
 void check_scale(double scale, const char* what) {
     if (!std::isfinite(scale) || scale < 0.0) {
-        throw Error(what, "scale " + detail::num(scale) + " must be a finite number >= 0");
+        throw Error(what, "scale " + number_text(scale) + " must be a finite number >= 0");
     }
 }
 
@@ -34,8 +35,8 @@ std::string colour_text(const Channels& ch, const std::vector<double>& v) {
             for (std::size_t i = 0; i < v.size(); ++i) rgb[std::size_t(k)] += w[std::size_t(k)][i] * v[i];
         }
     }
-    return std::string(ch.is_rgb() ? "" : "colour ") + "(" + detail::num(rgb[0], 4) + ", " + detail::num(rgb[1], 4) + ", " +
-           detail::num(rgb[2], 4) + ")";
+    return std::string(ch.is_rgb() ? "" : "colour ") + "(" + number_text(rgb[0], 4) + ", " + number_text(rgb[1], 4) + ", " +
+           number_text(rgb[2], 4) + ")";
 }
 
 // CIE Y of per-channel values (linear sRGB luminance for RGB).
@@ -58,7 +59,7 @@ NpfModel with_albedo(const NpfModel& model, const std::vector<double>& albedo, c
     bool above_one = false;
     for (std::size_t c = 0; c < albedo.size(); ++c) {
         if (!std::isfinite(albedo[c]) || albedo[c] < 0.0) {
-            throw Error("diffuse edit", "albedo " + detail::num(albedo[c]) + " in channel " + std::to_string(c) +
+            throw Error("diffuse edit", "albedo " + number_text(albedo[c]) + " in channel " + std::to_string(c) +
                                             " is not a finite number >= 0");
         }
         above_one = above_one || albedo[c] > 1.0;
@@ -90,7 +91,7 @@ NpfModel replace_diffuse(const NpfModel& model, const NpfModel& from, double sca
         NpfModel out = model;
         for (std::size_t c = 0; c < out.rho_d.size(); ++c) out.rho_d[c] = scale == 1.0 ? from.rho_d[c] : float(from.rho_d[c] * scale);
         if (record) {
-            record->summary = "diffuse from another material (scale " + detail::num(scale) + "): albedo pi rho_d " +
+            record->summary = "diffuse from another material (scale " + number_text(scale) + "): albedo pi rho_d " +
                               colour_text(model.channels, albedo_of(model.rho_d)) + " -> " +
                               colour_text(model.channels, albedo_of(out.rho_d));
         }
@@ -103,7 +104,7 @@ NpfModel replace_diffuse(const NpfModel& model, const NpfModel& from, double sca
     for (double& a : albedo) a *= scale;
     NpfModel out = with_albedo(model, albedo,
                                "from another material (" + std::string(from.channels.is_rgb() ? "RGB" : "spectral") +
-                                   " into " + (model.channels.is_rgb() ? "RGB" : "spectral") + ", scale " + detail::num(scale) + ")",
+                                   " into " + (model.channels.is_rgb() ? "RGB" : "spectral") + ", scale " + number_text(scale) + ")",
                                record);
     merge_unique(record, notes);
     return out;
@@ -112,7 +113,7 @@ NpfModel replace_diffuse(const NpfModel& model, const NpfModel& from, double sca
 NpfModel replace_diffuse_albedo(const NpfModel& model, const color::SampledSpectrum& albedo, EditRecord* record) {
     if (albedo.empty()) throw Error("diffuse edit", "the albedo spectrum is empty");
     for (double v : albedo.values()) {
-        if (!std::isfinite(v) || v < 0.0) throw Error("diffuse edit", "albedo spectrum value " + detail::num(v) + " is not >= 0");
+        if (!std::isfinite(v) || v < 0.0) throw Error("diffuse edit", "albedo spectrum value " + number_text(v) + " is not >= 0");
     }
     std::vector<double> a;
     if (model.channels.is_rgb()) {
@@ -131,14 +132,14 @@ NpfModel replace_diffuse_albedo(const NpfModel& model, const color::SampledSpect
 
 NpfModel replace_diffuse_albedo(const NpfModel& model, const color::Rgb& linear_albedo, EditRecord* record) {
     for (double v : linear_albedo) {
-        if (!std::isfinite(v) || v < 0.0) throw Error("diffuse edit", "colour component " + detail::num(v) + " is not >= 0");
+        if (!std::isfinite(v) || v < 0.0) throw Error("diffuse edit", "colour component " + number_text(v) + " is not >= 0");
     }
     EditRecord notes;
     const std::vector<double> a = detail::convert_channels(Channels::rgb(), {linear_albedo[0], linear_albedo[1], linear_albedo[2]},
                                                            model.channels, "diffuse colour", &notes);
     NpfModel out = with_albedo(model, a,
-                               "albedo from the linear sRGB colour (" + detail::num(linear_albedo[0], 4) + ", " +
-                                   detail::num(linear_albedo[1], 4) + ", " + detail::num(linear_albedo[2], 4) + ")" +
+                               "albedo from the linear sRGB colour (" + number_text(linear_albedo[0], 4) + ", " +
+                                   number_text(linear_albedo[1], 4) + ", " + number_text(linear_albedo[2], 4) + ")" +
                                    (model.channels.is_rgb() ? "" : ", upsampled"),
                                record);
     merge_unique(record, notes);
@@ -198,8 +199,8 @@ NpfModel replace_specular(const NpfModel& model, const NpfModel& from, const Spe
         for (std::size_t c = 0; c < C; ++c) k0_after[c] = double(out.rho_s[c]) * out.F[c * std::size_t(out.f_theta)];
         record->summary = "specular colour rho_s F from another material (" +
                           std::string(from.channels.is_rgb() ? "RGB" : "spectral") + " into " +
-                          (model.channels.is_rgb() ? "RGB" : "spectral") + ", scale " + detail::num(scale) +
-                          (swap.keep_brightness ? ", brightness kept: x " + detail::num(brightness, 4) : std::string()) +
+                          (model.channels.is_rgb() ? "RGB" : "spectral") + ", scale " + number_text(scale) +
+                          (swap.keep_brightness ? ", brightness kept: x " + number_text(brightness, 4) : std::string()) +
                           "): rho_s F at normal incidence " + colour_text(model.channels, k0_before) + " -> " +
                           colour_text(model.channels, k0_after) + "; D and G unchanged";
         merge_unique(record, notes);

@@ -1,3 +1,4 @@
+#include <npf/core/number_text.h>
 #include <npf/edit/compression.h>
 
 #include "tables.h"
@@ -23,9 +24,9 @@ NpfModel compress_model(const NpfModel& model, const CompressionOptions& options
     out.detail = model.detail;
     if (record) {
         record->summary = "re-compressed D rank " + std::to_string(model.D.rank) + " -> " + std::to_string(out.D.rank) +
-                          " (kept ratio " + detail::num(out.D.kept_ratio, 6) + "), G rank " +
+                          " (kept ratio " + number_text(out.D.kept_ratio, 6) + "), G rank " +
                           std::to_string(model.G.rank) + " -> " + std::to_string(out.G.rank) + " (kept ratio " +
-                          detail::num(out.G.kept_ratio, 6) + ")";
+                          number_text(out.G.kept_ratio, 6) + ")";
         if (capped) {
             detail::warn(record, "the input was stored at a lower rank: components it dropped cannot come back, "
                                  "its ranks are kept");

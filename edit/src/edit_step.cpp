@@ -1,3 +1,4 @@
+#include <npf/core/number_text.h>
 #include <npf/edit/edit_step.h>
 
 #include "tables.h"
@@ -17,7 +18,7 @@ EditStep EditStep::ndf(const Mat3& m, std::string label) {
 EditStep EditStep::diffuse_from(std::string path, double scale) {
     EditStep s;
     s.kind = Kind::DiffuseMaterial;
-    s.label = "diffuse from " + path + (scale != 1.0 ? " x " + detail::num(scale) : "");
+    s.label = "diffuse from " + path + (scale != 1.0 ? " x " + number_text(scale) : "");
     s.path = std::move(path);
     s.scale = scale;
     return s;
@@ -42,7 +43,7 @@ EditStep EditStep::diffuse_albedo(const color::Rgb& linear, std::string label) {
 EditStep EditStep::specular_from(std::string path, double scale, bool keep_brightness) {
     EditStep s;
     s.kind = Kind::SpecularMaterial;
-    s.label = "specular from " + path + (scale != 1.0 ? " x " + detail::num(scale) : "") +
+    s.label = "specular from " + path + (scale != 1.0 ? " x " + number_text(scale) : "") +
               (keep_brightness ? ", brightness kept" : "");
     s.path = std::move(path);
     s.scale = scale;
@@ -70,7 +71,7 @@ EditStep EditStep::limit_albedo(double cap) {
     EditStep s;
     s.kind = Kind::LimitAlbedo;
     s.cap = cap;
-    s.label = "limit the directional albedo to " + detail::num(cap);
+    s.label = "limit the directional albedo to " + number_text(cap);
     return s;
 }
 

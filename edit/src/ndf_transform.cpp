@@ -1,3 +1,4 @@
+#include <npf/core/number_text.h>
 #include <npf/edit/ndf_transform.h>
 
 #include "tables.h"
@@ -100,14 +101,14 @@ std::vector<double> first_row_means(const detail::Tables& g, int g_phi) {
 
 void check_factor(double v, const char* what) {
     if (!std::isfinite(v) || !(v > 0.0)) {
-        throw Error(kSource, std::string(what) + " must be a positive finite number, got " + detail::num(v));
+        throw Error(kSource, std::string(what) + " must be a positive finite number, got " + number_text(v));
     }
 }
 
 std::string range_text(const std::vector<double>& v) {
     if (v.empty()) return "-";
     const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-    return *lo == *hi ? detail::num(*lo, 6) : detail::num(*lo, 6) + ".." + detail::num(*hi, 6);
+    return *lo == *hi ? number_text(*lo, 6) : number_text(*lo, 6) + ".." + number_text(*hi, 6);
 }
 
 }  // namespace
@@ -142,7 +143,7 @@ std::string matrix_text(const Mat3& m) {
     std::string s = "[";
     for (int i = 0; i < 3; ++i) {
         s += i ? ", [" : "[";
-        for (int j = 0; j < 3; ++j) s += (j ? ", " : "") + detail::num(m(i, j) == 0.0 ? 0.0 : m(i, j), 6);
+        for (int j = 0; j < 3; ++j) s += (j ? ", " : "") + number_text(m(i, j) == 0.0 ? 0.0 : m(i, j), 6);
         s += "]";
     }
     return s + "]";
@@ -170,7 +171,7 @@ NpfModel transform_ndf(const NpfModel& in, const Mat3& given, const NdfTransform
     for (double v : m.m) norm = std::max(norm, std::fabs(v));
     const double det = determinant(m);
     if (!(std::fabs(det) > 1e-12 * norm * norm * norm)) {
-        throw Error(kSource, "the matrix " + matrix_text(given) + " is singular (determinant " + detail::num(det) + ")");
+        throw Error(kSource, "the matrix " + matrix_text(given) + " is singular (determinant " + number_text(det) + ")");
     }
     const std::string label = "ndf transform M = " + matrix_text(m);
     if (m == Mat3::identity()) {
@@ -284,9 +285,9 @@ NpfModel transform_ndf(const NpfModel& in, const Mat3& given, const NdfTransform
                           std::to_string(out.d_phi) + ", G " + std::to_string(out.g_theta) + " x " +
                           std::to_string(out.g_phi) + "; projected area of D on the grid " + range_text(area_ratio) +
                           " of the input's before renormalisation to 1; SVD ranks D " + std::to_string(out.D.rank) +
-                          " (keeps " + detail::num(out.D.kept_ratio, 6) + " of the edited tables; the input kept " +
-                          detail::num(in.D.kept_ratio, 6) + "), G " + std::to_string(out.G.rank) + " (keeps " +
-                          detail::num(out.G.kept_ratio, 6) + "; input " + detail::num(in.G.kept_ratio, 6) + ")";
+                          " (keeps " + number_text(out.D.kept_ratio, 6) + " of the edited tables; the input kept " +
+                          number_text(in.D.kept_ratio, 6) + "), G " + std::to_string(out.G.rank) + " (keeps " +
+                          number_text(out.G.kept_ratio, 6) + "; input " + number_text(in.G.kept_ratio, 6) + ")";
         if (!tangent) {
             detail::warn(record, "the matrix tilts the normal distribution (a mean-slope offset): D was cut at the horizon "
                                  "and renormalised, and G's directional transform is only approximately consistent "

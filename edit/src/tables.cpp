@@ -1,5 +1,6 @@
 #include "tables.h"
 
+#include <npf/core/number_text.h>
 #include <npf/color/rgb_sigmoid.h>
 #include <npf/color/spectrum.h>
 #include <npf/converter/fit/npf_factors.h>
@@ -87,12 +88,6 @@ std::vector<double> projected_areas(const Tables& d, int d_theta, int d_phi) {
     return area;
 }
 
-std::string num(double v, int digits) {
-    char b[64];
-    std::snprintf(b, sizeof b, "%.*g", digits, v);
-    return b;
-}
-
 void warn(EditRecord* record, const std::string& text) {
     if (record) record->warnings.push_back(text);
 }
@@ -105,8 +100,8 @@ std::vector<double> convert_channels(const Channels& from, const std::vector<dou
         const std::vector<float>& fw = from.wavelengths();
         const std::vector<float>& tw = to.wavelengths();
         if (tw.front() < fw.front() - 5.f || tw.back() > fw.back() + 5.f) {
-            warn(record, what + ": the source covers " + num(fw.front(), 5) + " to " + num(fw.back(), 5) +
-                             " nm, the material " + num(tw.front(), 5) + " to " + num(tw.back(), 5) +
+            warn(record, what + ": the source covers " + number_text(fw.front(), 5) + " to " + number_text(fw.back(), 5) +
+                             " nm, the material " + number_text(tw.front(), 5) + " to " + number_text(tw.back(), 5) +
                              " nm; held constant beyond the source's range");
         }
         const color::SampledSpectrum s(std::vector<double>(fw.begin(), fw.end()), values);

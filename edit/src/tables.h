@@ -52,7 +52,6 @@ std::vector<double> convert_channels(const Channels& from, const std::vector<dou
 void drop_detail(NpfModel& model, EditRecord* record, const std::string& why);
 
 // "1.234" with up to `digits` significant digits.
-std::string num(double v, int digits = 6);
 
 void warn(EditRecord* record, const std::string& text);
 

@@ -1,3 +1,4 @@
+#include <npf/core/number_text.h>
 #include <npf/edit/thin_film.h>
 
 #include "tables.h"
@@ -52,20 +53,20 @@ double misfit(const Curve& c, double eta, double k) {
 std::string spectrum_text(const color::SampledSpectrum& s) {
     if (s.empty()) return "0";
     const auto [lo, hi] = std::minmax_element(s.values().begin(), s.values().end());
-    return *lo == *hi ? detail::num(*lo, 4) : detail::num(*lo, 4) + ".." + detail::num(*hi, 4);
+    return *lo == *hi ? number_text(*lo, 4) : number_text(*lo, 4) + ".." + number_text(*hi, 4);
 }
 
 std::string range_text(const std::vector<double>& v) {
     if (v.empty()) return "-";
     const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-    return *lo == *hi ? detail::num(*lo, 4) : detail::num(*lo, 4) + ".." + detail::num(*hi, 4);
+    return *lo == *hi ? number_text(*lo, 4) : number_text(*lo, 4) + ".." + number_text(*hi, 4);
 }
 
 void require_positive(const color::SampledSpectrum& s, const std::string& what, bool allow_zero) {
     if (s.empty()) throw Error(kSource, what + " is empty");
     for (double v : s.values()) {
         if (!std::isfinite(v) || v < 0.0 || (!allow_zero && v == 0.0)) {
-            throw Error(kSource, what + " value " + detail::num(v) + " is not " + (allow_zero ? ">= 0" : "positive"));
+            throw Error(kSource, what + " value " + number_text(v) + " is not " + (allow_zero ? ">= 0" : "positive"));
         }
     }
 }
@@ -147,7 +148,7 @@ FittedBase fit_base_ior(const NpfModel& model) {
 
 NpfModel apply_thin_film(const NpfModel& model, const ThinFilm& film, EditRecord* record) {
     if (!std::isfinite(film.thickness_nm) || film.thickness_nm < 0.0) {
-        throw Error(kSource, "thickness " + detail::num(film.thickness_nm) + " nm is not a finite number >= 0");
+        throw Error(kSource, "thickness " + number_text(film.thickness_nm) + " nm is not a finite number >= 0");
     }
     require_positive(film.film_eta, "the film index", false);
     const std::size_t C = model.channel_count();
@@ -219,7 +220,7 @@ NpfModel apply_thin_film(const NpfModel& model, const ThinFilm& film, EditRecord
         k0_before[c] = double(model.rho_s[c]) * f_in[0];
         for (int i = 0; i < n; ++i) {
             if (!(rb[i] > 1e-12)) {
-                throw Error(kSource, "the base (index " + detail::num(base_eta(kRgbWavelengths[1]), 4) +
+                throw Error(kSource, "the base (index " + number_text(base_eta(kRgbWavelengths[1]), 4) +
                                          ") reflects nothing: the film's effect is undefined");
             }
         }
@@ -262,9 +263,9 @@ NpfModel apply_thin_film(const NpfModel& model, const ThinFilm& film, EditRecord
                     for (std::size_t c = 0; c < C; ++c) rgb[k] += w[k][c] * v[c];
                 }
             }
-            return "(" + detail::num(rgb[0], 4) + ", " + detail::num(rgb[1], 4) + ", " + detail::num(rgb[2], 4) + ")";
+            return "(" + number_text(rgb[0], 4) + ", " + number_text(rgb[1], 4) + ", " + number_text(rgb[2], 4) + ")";
         };
-        record->summary = "thin film " + detail::num(film.thickness_nm) + " nm of index " + spectrum_text(film.film_eta) +
+        record->summary = "thin film " + number_text(film.thickness_nm) + " nm of index " + spectrum_text(film.film_eta) +
                           " on base " + base + ", mode " + (film.mode == FilmMode::Ratio ? "ratio" : "replace") +
                           ": rho_s F at normal incidence " + colour(k0_before) + " -> " + colour(k0_after);
         if (film.base.fitted && fitted.clamped_f0 > 0) {
@@ -273,7 +274,7 @@ NpfModel apply_thin_film(const NpfModel& model, const ThinFilm& film, EditRecord
         }
         if (film.base.fitted && !fitted.rms.empty() && *std::max_element(fitted.rms.begin(), fitted.rms.end()) > kPoorFit) {
             detail::warn(record, "the material's F is far from every Fresnel curve with F0 = 4 rho_s (normalised curve RMS up to " +
-                                     detail::num(*std::max_element(fitted.rms.begin(), fitted.rms.end()), 3) +
+                                     number_text(*std::max_element(fitted.rms.begin(), fitted.rms.end()), 3) +
                                      "): the fitted base index is a rough guess; give the base (a metal, eta or eta,k) if known");
         }
         if (negative > 0) {
@@ -286,9 +287,9 @@ NpfModel apply_thin_film(const NpfModel& model, const ThinFilm& film, EditRecord
             for (std::size_t c = 1; c < wl.size(); ++c) spacing = std::max(spacing, double(wl[c] - wl[c - 1]));
             const double l0 = wl.front(), period = l0 * l0 / (2.0 * film.film_eta(l0) * film.thickness_nm);
             if (wl.size() < 2 || spacing > 0.5 * period) {
-                detail::warn(record, "the stored wavelengths (spacing up to " + detail::num(spacing, 4) +
-                                         " nm) do not resolve the film's fringes (period about " + detail::num(period, 3) +
-                                         " nm at " + detail::num(l0, 4) + " nm): the colours alias");
+                detail::warn(record, "the stored wavelengths (spacing up to " + number_text(spacing, 4) +
+                                         " nm) do not resolve the film's fringes (period about " + number_text(period, 3) +
+                                         " nm at " + number_text(l0, 4) + " nm): the colours alias");
             }
         }
     }

@@ -14,6 +14,7 @@
 // A real LUT's claims are covered by its own data, so none is refused here.
 #include "config_checks.h"
 
+#include <npf/core/number_text.h>
 #include <npf/core/text.h>
 
 #include <cctype>
@@ -45,14 +46,13 @@ bool leading_integer(const std::string& token, double& value) {
     return true;
 }
 
-std::string number(double v) { return six_digits(v); }
 
 // "" when `values` fit in `bytes` at `per_value` bytes each.
 std::string claim_problem(const std::string& where, const std::string& what, double values, double bytes,
                           double per_value) {
     if (values < 0.0) return where + " claims a negative size (" + what + ")";
     if (values * per_value <= bytes) return "";
-    return where + " claims " + number(values) + " values (" + what + ") but the file has " + number(bytes) +
+    return where + " claims " + number_text(values) + " values (" + what + ") but the file has " + number_text(bytes) +
            " bytes";
 }
 
@@ -112,7 +112,7 @@ std::string xml_problem(const std::string& bytes) {
         while (i < bytes.size() && (std::isspace(static_cast<unsigned char>(bytes[i])) || bytes[i] == '"')) ++i;
         double n = 0.0;
         if (!leading_integer(bytes.substr(i, 32), n)) continue;
-        if (std::string p = claim_problem("<size> " + number(n), "3 n^3", 3.0 * n * n * n, size, kLookBytesPerValue); !p.empty())
+        if (std::string p = claim_problem("<size> " + number_text(n), "3 n^3", 3.0 * n * n * n, size, kLookBytesPerValue); !p.empty())
             return p;
     }
     return "";
@@ -141,14 +141,14 @@ std::string text_problem(const std::string& bytes) {
         auto has = [&](std::size_t i, double& v) { return t.size() > i && leading_integer(t[i], v); };
         std::string p;
         if (k0 == "lut_1d_size" && has(1, a)) {
-            p = claim_problem(where, "LUT_1D_SIZE " + number(a), 3.0 * a, size, kTextBytesPerValue);
+            p = claim_problem(where, "LUT_1D_SIZE " + number_text(a), 3.0 * a, size, kTextBytesPerValue);
         } else if (k0 == "lut_3d_size" && has(1, a)) {
-            p = claim_problem(where, "LUT_3D_SIZE " + number(a), 3.0 * a * a * a, size, kTextBytesPerValue);
+            p = claim_problem(where, "LUT_3D_SIZE " + number_text(a), 3.0 * a * a * a, size, kTextBytesPerValue);
         } else if (k0 == "length" && has(1, a)) {
-            p = claim_problem(where, "Length " + number(a), a, size, kTextBytesPerValue);
-            if (p.empty() && has(2, b)) p = claim_problem(where, "Length " + number(b), b, size, kTextBytesPerValue);
+            p = claim_problem(where, "Length " + number_text(a), a, size, kTextBytesPerValue);
+            if (p.empty() && has(2, b)) p = claim_problem(where, "Length " + number_text(b), b, size, kTextBytesPerValue);
         } else if (k0 == "lut:" && has(1, a) && has(2, b)) {
-            p = claim_problem(where, "LUT: " + number(a) + " " + number(b), std::fabs(a) * b, size, kTextBytesPerValue);
+            p = claim_problem(where, "LUT: " + number_text(a) + " " + number_text(b), std::fabs(a) * b, size, kTextBytesPerValue);
             if (p.empty() && t.size() > 3 && t[3].size() > kDiscreetDepthBytes)
                 p = where + " has a bit depth of " + std::to_string(t[3].size()) + " characters (OCIO's Discreet reader scans it into " +
                     std::to_string(kDiscreetDepthBytes + 1) + " bytes)";
@@ -159,7 +159,7 @@ std::string text_problem(const std::string& bytes) {
         } else if (k0 == "#" && k1 == "lutlength" && has(2, a)) {
             p = claim_problem(where, "# lutLength", 3.0 * a, size, kTextBytesPerValue);
         } else if (k0 == "in" && has(1, a)) {
-            p = claim_problem(where, "in " + number(a), 3.0 * a, size, kTextBytesPerValue);
+            p = claim_problem(where, "in " + number_text(a), 3.0 * a, size, kTextBytesPerValue);
         }
         if (!p.empty()) return p;
         // Tokens of the lines OCIO's spi readers sscanf into char[64].

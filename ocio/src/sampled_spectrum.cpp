@@ -1,4 +1,5 @@
 // SampledSpectrum and the two-column spectrum files (.spd).
+#include <npf/core/number_text.h>
 #include <npf/color/spectrum.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>
@@ -17,12 +18,7 @@ namespace npf::color {
 
 namespace {
 
-std::string number_text(double v) {
-    std::ostringstream s;
-    s.precision(9);
-    s << v;
-    return s.str();
-}
+std::string number_text(double v) { return npf::number_text(v, 9); }
 
 // Parses one whole token as a double; false for anything else ("1.5nm", "abc"). Overflow
 // gives inf and "nan" gives NaN, which the caller rejects with its own message.

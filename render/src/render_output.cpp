@@ -1,5 +1,6 @@
 #include <npf/render/render_output.h>
 
+#include <npf/core/number_text.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 #include <npf/core/text.h>
@@ -19,7 +20,7 @@ namespace {
 std::string wavelengths_text(const Channels& c) {
     if (c.is_rgb()) return "rgb";
     std::string s;
-    for (float l : c.wavelengths()) s += (s.empty() ? "" : ",") + six_digits(l);
+    for (float l : c.wavelengths()) s += (s.empty() ? "" : ",") + number_text(l);
     return s;
 }
 
@@ -45,7 +46,7 @@ RenderMetadata describe_render(const RenderResult& result, const RenderOptions& 
                                                                         : "environment only");
     if (options.keep_negative) m.emplace_back("npf:negative_values", "kept (as Mitsuba's measured renders them)");
     m.emplace_back("npf:threads", std::to_string(result.stats.threads));
-    m.emplace_back("npf:render_seconds", six_digits(result.stats.seconds));
+    m.emplace_back("npf:render_seconds", number_text(result.stats.seconds));
     m.emplace_back("npf:envmap", environment.source());
     m.emplace_back("npf:envmap_size", std::to_string(environment.width()) + "x" + std::to_string(environment.height()));
     m.emplace_back("npf:envmap_clamped_values", std::to_string(environment.clamped_values()));
@@ -74,8 +75,8 @@ RenderMetadata describe_render(const RenderResult& result, const RenderOptions& 
     }
     std::string lights;
     for (const DirectionalLight& l : lighting.lights) {
-        lights += (lights.empty() ? "" : "; ") + l.name + ": direction (" + six_digits(l.direction.x) + ", " +
-                  six_digits(l.direction.y) + ", " + six_digits(l.direction.z) + "), irradiance " + six_digits(l.irradiance);
+        lights += (lights.empty() ? "" : "; ") + l.name + ": direction (" + number_text(l.direction.x) + ", " +
+                  number_text(l.direction.y) + ", " + number_text(l.direction.z) + "), irradiance " + number_text(l.irradiance);
     }
     m.emplace_back("npf:lighting", lighting.label());
     m.emplace_back("npf:lights", lights);

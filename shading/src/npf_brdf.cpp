@@ -1,5 +1,6 @@
 #include <npf/shading/npf_brdf.h>
 
+#include <npf/core/number_text.h>
 #include <npf/core/text.h>
 
 #include <npf/shading/npf_albedo.h>
@@ -24,7 +25,7 @@ std::string grid_text(int a, int b, const char* axes) {
 
 std::string rank_text(const SpectralBasis& s, std::size_t channels) {
     return std::to_string(s.rank) + " of " + std::to_string(std::min(s.cells, channels)) + " (keeps " +
-           six_digits(100.0 * s.kept_ratio) +
+           number_text(100.0 * s.kept_ratio) +
            " % of the squared singular values)";
 }
 

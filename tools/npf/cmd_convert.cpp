@@ -24,7 +24,7 @@ namespace {
 std::vector<FlagSpec> convert_flags() {
     std::vector<FlagSpec> flags = {{"-o", true, "output factor texture (.exr), required"}};
     for (const ConvertSettingRow& row : convert_settings_table()) {
-        flags.push_back({setting_flag(row), row.kind != SettingKind::Switch, row.help});
+        flags.push_back({setting_flag(row), row.kind != SettingKind::Switch, setting_help(row)});
     }
     flags.push_back({"--quiet", false, "no progress bar"});
     flags.push_back({"--help", false, "show this help"});

@@ -4,6 +4,7 @@
 #include "commands.h"
 
 #include <npf/converter/open_material.h>
+#include <npf/core/number_text.h>
 #include <npf/core/error.h>
 #include <npf/core/text.h>
 #include <npf/core/input_file.h>
@@ -163,7 +164,7 @@ int run_info(const std::vector<std::string>& args) {
         std::printf("channels: %s\n", channel_summary(i.channels).c_str());
         if (!i.channels.is_rgb()) std::printf("wavelengths (nm): %s\n", i.channels.describe().c_str());
         std::printf("value bound: %s 1/sr (the largest f_r cos(theta_i) cos(theta_o) its tables can give)\n",
-                    six_digits(i.value_bound).c_str());
+                    number_text(i.value_bound).c_str());
         for (const auto& [key, value] : i.details) std::printf("%s: %s\n", printable(key).c_str(), printable(value).c_str());
     }
     if (json) std::printf("%s]\n", json_text.c_str());

@@ -3,6 +3,7 @@
 // The specular term is evaluated as D F / (4 sigma(wi) sigma(wo)) (f_r), which equals
 // D F G1 G1 / (4 cos_i cos_o) because G1(w) = w.z / sigma(w), but has no 0/0 at grazing
 // directions: sigma stays >= about alpha/2 there, so mirror-sharp lobes stay finite.
+#include <npf/core/number_text.h>
 #include <npf/converter/analytic/analytic_brdf.h>
 
 #include <npf/core/error.h>
@@ -34,12 +35,6 @@ std::vector<float> default_wavelengths() {
     return w;
 }
 
-std::string fmt(double v) {
-    std::ostringstream os;
-    os.precision(6);
-    os << v;
-    return os.str();
-}
 
 const char* distribution_name(MicrofacetDistribution d) {
     return d == MicrofacetDistribution::Ggx ? "GGX" : "Beckmann";
@@ -89,23 +84,23 @@ AnalyticBrdf::AnalyticBrdf(AnalyticMaterial material) : m_material(std::move(mat
     for (std::size_t i = 0; i < m.wavelengths.size(); ++i) {
         const float l = m.wavelengths[i];
         if (!std::isfinite(l) || l <= 0.f)
-            throw Error(src, "wavelength " + fmt(l) + " nm is not a positive finite number");
+            throw Error(src, "wavelength " + number_text(l) + " nm is not a positive finite number");
         if (i > 0 && !(l > m.wavelengths[i - 1]))
-            throw Error(src, "wavelengths must be strictly ascending (" + fmt(m.wavelengths[i - 1]) +
-                                 " then " + fmt(l) + " nm)");
+            throw Error(src, "wavelengths must be strictly ascending (" + number_text(m.wavelengths[i - 1]) +
+                                 " then " + number_text(l) + " nm)");
     }
     auto check_spectrum = [&](const color::SampledSpectrum& s, const std::string& what) {
         for (double v : s.values())
             if (!(v >= 0.0) || !std::isfinite(v))
-                throw Error(src, what + " has the value " + fmt(v) + "; it must be finite and >= 0");
+                throw Error(src, what + " has the value " + number_text(v) + "; it must be finite and >= 0");
     };
     for (std::size_t k = 0; k < m.specular.size(); ++k) {
         const SpecularLobe& lobe = m.specular[k];
         const std::string what = "specular lobe " + std::to_string(k);
         for (float a : {lobe.ndf.alpha_x, lobe.ndf.alpha_y})
             if (!(a >= kMinAlpha && a <= kMaxAlpha))
-                throw Error(src, what + ": roughness " + fmt(a) + " is outside [" + fmt(kMinAlpha) + ", " +
-                                     fmt(kMaxAlpha) + "]");
+                throw Error(src, what + ": roughness " + number_text(a) + " is outside [" + number_text(kMinAlpha) + ", " +
+                                     number_text(kMaxAlpha) + "]");
         if (!std::isfinite(lobe.ndf.rotation)) throw Error(src, what + ": rotation is not finite");
         if (lobe.weight.empty()) throw Error(src, what + ": empty weight spectrum");
         check_spectrum(lobe.weight, what + " weight");
@@ -114,9 +109,9 @@ AnalyticBrdf::AnalyticBrdf(AnalyticMaterial material) : m_material(std::move(mat
     check_spectrum(m.retroreflection, "the retro-reflection weight");
     check_spectrum(m.sheen, "the sheen weight");
     if (!(m.retro_exponent >= 0.f && m.retro_exponent <= 1e6f))
-        throw Error(src, "retro-reflection exponent " + fmt(m.retro_exponent) + " is outside [0, 1e6]");
+        throw Error(src, "retro-reflection exponent " + number_text(m.retro_exponent) + " is outside [0, 1e6]");
     if (!(m.sheen_roughness > 0.f && m.sheen_roughness <= 1.f))
-        throw Error(src, "sheen roughness " + fmt(m.sheen_roughness) + " is outside (0, 1]");
+        throw Error(src, "sheen roughness " + number_text(m.sheen_roughness) + " is outside (0, 1]");
 
     // ---- the value bound (brdf.h): each term's largest f_r cos_i cos_o ----
     // Specular: w D F G1 G1 / 4 with F, G1 <= 1 and D <= 1 / (pi alpha_x alpha_y) (GGX and
@@ -145,14 +140,14 @@ AnalyticBrdf::AnalyticBrdf(AnalyticMaterial material) : m_material(std::move(mat
     for (std::size_t k = 0; k < m.specular.size(); ++k) {
         const MicrofacetNdf& n = m.specular[k].ndf;
         m_info.details.emplace_back("lobe " + std::to_string(k),
-                                    std::string(distribution_name(n.type)) + " alpha " + fmt(n.alpha_x) + " x " +
-                                        fmt(n.alpha_y) + ", rotation " + fmt(n.rotation) + " rad, " +
+                                    std::string(distribution_name(n.type)) + " alpha " + number_text(n.alpha_x) + " x " +
+                                        number_text(n.alpha_y) + ", rotation " + number_text(n.rotation) + " rad, " +
                                         fresnel_name(m.specular[k].fresnel.kind()) + " Fresnel");
     }
     m_info.details.emplace_back("diffuse", m.diffuse.empty() ? "no" : "yes");
     m_info.details.emplace_back("retro-reflection",
-                                m.retroreflection.empty() ? "no" : "yes, exponent " + fmt(m.retro_exponent));
-    m_info.details.emplace_back("sheen", m.sheen.empty() ? "no" : "yes, roughness " + fmt(m.sheen_roughness));
+                                m.retroreflection.empty() ? "no" : "yes, exponent " + number_text(m.retro_exponent));
+    m_info.details.emplace_back("sheen", m.sheen.empty() ? "no" : "yes, roughness " + number_text(m.sheen_roughness));
 
     // ---- lookup tables ----
     m_rgb_wavelengths.resize(kGridSize);
@@ -240,7 +235,7 @@ ChannelQuery AnalyticBrdf::query(const Channels& requested) const {
         if (wl.empty()) throw Error(src, "no wavelengths requested");
         for (float l : wl)
             if (!std::isfinite(l) || l <= 0.f)
-                throw Error(src, "requested wavelength " + fmt(l) + " nm is not a positive finite number");
+                throw Error(src, "requested wavelength " + number_text(l) + " nm is not a positive finite number");
         // Once the slots are full, further lists are looked up per evaluation (as correct, slower).
         QueryTables& tables = *m_query_tables;
         std::lock_guard<std::mutex> lock(tables.adding);

@@ -3,6 +3,7 @@
 
 #include "../tables.h"
 
+#include <npf/core/number_text.h>
 #include <npf/core/error.h>
 #include <npf/edit/edit_kinds.h>
 
@@ -39,7 +40,7 @@ Recompression read_recipe(const YamlContext& cx, const YAML::Node& v) {
     r.g = cx.number(pair[1], key);
     const std::string wrong = problem(r);
     if (!wrong.empty()) cx.fail(pair, key, wrong);
-    r.named = detail::num(r.d) + ", " + detail::num(r.g);
+    r.named = number_text(r.d) + ", " + number_text(r.g);
     return r;
 }
 

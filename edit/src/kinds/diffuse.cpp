@@ -4,6 +4,7 @@
 
 #include "../tables.h"
 
+#include <npf/core/number_text.h>
 #include <npf/core/error.h>
 #include <npf/edit/edit_kinds.h>
 
@@ -44,7 +45,7 @@ DiffuseSource read_recipe(const YamlContext& cx, const YAML::Node& v) {
         d.from = DiffuseSource::From::Colour;
         d.srgb_encoded = bool(v["srgb"]);
         d.colour = detail::recipe_rgb(cx, d.srgb_encoded ? v["srgb"] : v["linear_srgb"], d.srgb_encoded ? "srgb" : "linear_srgb");
-        d.named = detail::num(d.colour[0], 4) + ", " + detail::num(d.colour[1], 4) + ", " + detail::num(d.colour[2], 4);
+        d.named = number_text(d.colour[0], 4) + ", " + number_text(d.colour[1], 4) + ", " + number_text(d.colour[2], 4);
     }
     return d;
 }
@@ -70,7 +71,7 @@ DiffuseSource read_flag(const std::string& flag, const std::string& text, const 
 }
 
 EditStep build(const DiffuseSource& d) {
-    const std::string scaled = d.scale != 1.0 ? " x " + detail::num(d.scale) : "";
+    const std::string scaled = d.scale != 1.0 ? " x " + number_text(d.scale) : "";
     switch (d.from) {
     case DiffuseSource::From::Material:
         return EditStep::diffuse_from(d.path, d.scale);

@@ -3,6 +3,7 @@
 
 #include "../tables.h"
 
+#include <npf/core/number_text.h>
 #include <npf/core/error.h>
 #include <npf/edit/edit_kinds.h>
 
@@ -26,7 +27,7 @@ EditKind limit_albedo() {
           "light than that"}},
         [](const YamlContext& cx, const YAML::Node& v) {
             const double cap = detail::number_or_mapping(cx, v, "limit_albedo", "cap");
-            if (!cap_in_range(cap)) cx.fail(v, "limit_albedo", "the cap must be in (0, 1], got " + detail::num(cap));
+            if (!cap_in_range(cap)) cx.fail(v, "limit_albedo", "the cap must be in (0, 1], got " + number_text(cap));
             return AlbedoCap{cap};
         },
         [](const std::string& flag, const std::string& text, const GivenFlags&) {

@@ -3,6 +3,7 @@
 
 #include "../tables.h"
 
+#include <npf/core/number_text.h>
 #include <npf/edit/edit_kinds.h>
 
 namespace npf::edit::kinds {
@@ -22,7 +23,7 @@ EditKind rotate() {
         [](const YamlContext& cx, const YAML::Node& v) { return Rotation{detail::number_or_mapping(cx, v, "rotate", "degrees")}; },
         [](const std::string& flag, const std::string& text, const GivenFlags&) { return Rotation{flag_number(flag, text)}; },
         [](const Rotation& r) {
-            return EditStep::ndf(rotation_matrix(r.degrees), "rotate the anisotropy axis by " + detail::num(r.degrees) + " degrees");
+            return EditStep::ndf(rotation_matrix(r.degrees), "rotate the anisotropy axis by " + number_text(r.degrees) + " degrees");
         },
     });
 }

@@ -4,6 +4,7 @@
 
 #include "../tables.h"
 
+#include <npf/core/number_text.h>
 #include <npf/edit/edit_kinds.h>
 
 namespace npf::edit::kinds {
@@ -21,7 +22,7 @@ EditKind roughness_kind(const std::string& key, const char* inner, const std::st
         {{"--" + key, help}},
         [key, inner](const YamlContext& cx, const YAML::Node& v) {
             const double f = detail::number_or_mapping(cx, v, key, inner);
-            if (!(f > 0.0)) cx.fail(v, key, "must be positive, got " + detail::num(f));
+            if (!(f > 0.0)) cx.fail(v, key, "must be positive, got " + number_text(f));
             return RoughnessFactor{f};
         },
         [](const std::string& flag, const std::string& text, const GivenFlags&) {
@@ -30,7 +31,7 @@ EditKind roughness_kind(const std::string& key, const char* inner, const std::st
         [key, sharpens](const RoughnessFactor& r) {
             const double scale = sharpens ? 1.0 / r.factor : r.factor;
             return EditStep::ndf(roughness_matrix(scale),
-                                 key + " " + detail::num(r.factor) + " (roughness x " + detail::num(scale) + ")");
+                                 key + " " + number_text(r.factor) + " (roughness x " + number_text(scale) + ")");
         },
     });
 }

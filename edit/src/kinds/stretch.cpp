@@ -3,6 +3,7 @@
 
 #include "../tables.h"
 
+#include <npf/core/number_text.h>
 #include <npf/edit/edit_kinds.h>
 
 #include <optional>
@@ -33,8 +34,8 @@ Stretch read_flag(const std::string& flag, const std::string& text, const GivenF
 
 EditStep build(const Stretch& s) {
     std::string named;
-    if (s.tangent) named = "tangent " + detail::num(*s.tangent);
-    if (s.bitangent) named += (named.empty() ? "" : ", ") + std::string("bitangent ") + detail::num(*s.bitangent);
+    if (s.tangent) named = "tangent " + number_text(*s.tangent);
+    if (s.bitangent) named += (named.empty() ? "" : ", ") + std::string("bitangent ") + number_text(*s.bitangent);
     return EditStep::ndf(stretch_matrix(s.tangent.value_or(1.0), s.bitangent.value_or(1.0)), "stretch " + named);
 }
 

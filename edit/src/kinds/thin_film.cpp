@@ -30,7 +30,7 @@ FilmBase parse_film_base(const std::string& text, const std::string& what) {
         }
         b.eta = color::SampledSpectrum::constant(parts[0]);
         b.k = color::SampledSpectrum::constant(parts.size() == 2 ? parts[1] : 0.0);
-        b.label = parts.size() == 2 ? "eta " + detail::num(parts[0]) + " + " + detail::num(parts[1]) + "i" : "dielectric " + detail::num(parts[0]);
+        b.label = parts.size() == 2 ? "eta " + number_text(parts[0]) + " + " + number_text(parts[1]) + "i" : "dielectric " + number_text(parts[0]);
         return b;
     }
     if (list) throw Error(what, "'" + text + "' is neither fitted, eta, eta,k nor a metal name");
@@ -125,12 +125,12 @@ Film read_flag(const std::string& flag, const std::string& text, const GivenFlag
     f.film.film_eta = color::SampledSpectrum::constant(p[1]);
     f.film.base = flag_film_base(given);
     f.film.mode = flag_film_mode(given);
-    f.index_named = detail::num(p[1]);
+    f.index_named = number_text(p[1]);
     return f;
 }
 
 EditStep build(const Film& f) {
-    return EditStep::thin_film(f.film, "thin film " + detail::num(f.film.thickness_nm) + " nm, index " + f.index_named);
+    return EditStep::thin_film(f.film, "thin film " + number_text(f.film.thickness_nm) + " nm, index " + f.index_named);
 }
 
 }  // namespace

@@ -86,6 +86,11 @@ SettingValue check_setting(const ConvertSettingRow& row, const std::string& text
 // The value a preset gives the setting, for a source that is isotropic or not.
 std::string setting_default(const ConvertSettingRow& row, ConvertPreset preset, bool isotropic);
 
+// The row's help with its defaults read from the presets themselves (setting_default), so that
+// the text cannot drift from the code: "... (default: 0.4)", or "(default: 32,24,16; preview:
+// 16,8,16; paper: none)" where presets differ, and "anisotropic sources: ..." where that differs.
+std::string setting_help(const ConvertSettingRow& row);
+
 // The settings given (`given` returns the checked value of a row, or nothing), over the preset's
 // (after `isotropy`) for the source; errors name each row by `name_of`. Also checks the settings
 // that go together (--target-psnr with --detail, --no-predict, --target-grids).

@@ -21,6 +21,17 @@ double parse_finite_number(const std::string& text, const std::string& what);
 // The same rule without throwing: nothing when `text` is not such a number.
 std::optional<double> finite_number_of(const std::string& text);
 
+// A number as printf's "%.*g" writes it with `significant_digits`: 6 (the default) for the
+// metadata and reports people read (factor textures' npf:meta:* values are in this form;
+// changing it changes their bytes), 9 for every digit a float holds, 17 for every bit of a
+// double (hash texts); "inf", "-inf", "nan" for the rest. The one formatter of numbers.
+std::string number_text(double v, int significant_digits = 6);
+
+// The shortest text that reads back as exactly `v` (at most 17 digits; whole numbers without an
+// exponent): "0.99", not "0.98999999999999999", and "90", not "9e+01"; for values people set and
+// read back, such as defaults in help.
+std::string exact_number_text(double v);
+
 // Comma-separated finite numbers ("1.5" or "0.2,3.1"), each as above, or nothing when any part
 // is not one (the text is then something else: a name, a path). Empty parts ("1,,2", "") are
 // not numbers.

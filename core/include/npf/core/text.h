@@ -14,14 +14,6 @@ inline std::string first_line(const std::string& s) {
     return nl == std::string::npos ? s : s.substr(0, nl);
 }
 
-// A number as "%.6g" writes it: the precision of the metadata and reports that people read
-// (factor textures' npf:meta:* values are in this form; changing it changes their bytes).
-inline std::string six_digits(double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.6g", v);
-    return buffer;
-}
-
 // Whether `text` ends with `tail` (exactly, case and all).
 inline bool ends_with(const std::string& text, const std::string& tail) {
     return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
