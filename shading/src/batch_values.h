@@ -27,6 +27,15 @@ inline bool vector_values_apply(const NpfModel& m) {
     return m.D.rank <= kVectorRank && m.G.rank <= kVectorRank && m.detail.rank <= kVectorRank;
 }
 
+// Float lanes compute cell indices in float: exact below 2^24, which every table's size is far
+// below; a model with a larger table takes the double path.
+inline bool float_values_apply(const NpfModel& m) {
+    constexpr std::size_t kExact = std::size_t(1) << 24;
+    return vector_values_apply(m) && m.D.cells < kExact && m.G.cells < kExact && m.detail.cells < kExact &&
+           m.F.size() < kExact && m.D.weights.size() < kExact && m.G.weights.size() < kExact &&
+           m.detail.weights.size() < kExact;
+}
+
 // Which values a block writes: every stored channel (`stored`, value k = channel k), or the
 // wavelengths of `wavelengths` located on the model's grid by `locator`.
 struct ValueRequestOfBlock {
@@ -55,5 +64,10 @@ struct CellMajorBases {
 std::size_t values_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAngles& angles, std::size_t count,
                         const std::uint8_t* valid, const ValueRequestOfBlock& request, std::size_t first, float* values,
                         std::size_t n);
+// The same in float lanes, eight pairs per step, from float angles (BatchPrecision::Float): within
+// the float budget of docs/shading.md, not to the bit. Returns a multiple of 8.
+std::size_t values_float_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<float>& angles,
+                              std::size_t count, const std::uint8_t* valid, const ValueRequestOfBlock& request,
+                              std::size_t first, float* values, std::size_t n);
 
 }  // namespace npf::batch_detail

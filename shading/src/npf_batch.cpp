@@ -1,7 +1,7 @@
 // The batched closure (npf_batch.h): blocks of kBlock pairs; the angles of a block by a vector
 // kernel (batch_angles.h), then the table lookups and values four pairs at a time by vector code
-// (batch_values.h, AVX2), or pair by pair with the scalar closure's code; sample's draws likewise
-// (batch_draw.h).
+// (batch_values.h, AVX2), or eight at a time in float lanes (BatchPrecision::Float), or pair by
+// pair with the scalar closure's code; sample's draws likewise (batch_draw.h).
 #include <npf/shading/npf_batch.h>
 #include <npf/shading/npf_closure.h>
 
@@ -77,26 +77,44 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
     }
     const bool avx2 = simd_isa() == SimdIsa::Avx2;
     const bool vector_values = avx2 && batch_detail::vector_values_apply(m_model);
+    const bool float_lanes =
+        vector_values && m_batch_precision == BatchPrecision::Float && batch_detail::float_values_apply(m_model);
     const batch_detail::ValueRequestOfBlock block_request{stored, wavelengths, &m_wavelengths, count};
     auto data_or_null = [](const std::vector<float>& v) { return v.empty() ? nullptr : v.data(); };
     const batch_detail::CellMajorBases cell_major{data_or_null(m_cell_major_d), data_or_null(m_cell_major_g),
                                                   data_or_null(m_cell_major_detail)};
     const AngleNeeds needs = m_model.angle_needs();
     batch_detail::BlockAngles angles;
+    batch_detail::BlockAnglesOf<float> float_angles;
     std::uint8_t valid[kBlock];
     NpfModel::Lookup at;
     for (std::size_t b = 0; b < n; b += kBlock) {
         const std::size_t m = std::min(kBlock, n - b);
         const BlockPointers p(view, light, b);
-        if (avx2) {
-            batch_detail::angles_avx2(m, p.view, p.light, needs, angles);
-        } else {
-            batch_detail::angles_portable(m, p.view, p.light, needs, angles);
-        }
         for (std::size_t j = 0; j < m; ++j) valid[j] = in_domain(view, light, b + j);
-        // The values of whole groups of four pairs by vector code, the rest pair by pair.
-        const std::size_t done =
-            vector_values ? batch_detail::values_avx2(m_model, cell_major, angles, m, valid, block_request, b, values, n) : 0;
+        std::size_t done = 0;
+        if (float_lanes) {
+            // Eight pairs at a time in float; the rest of the block (fewer than eight) in double.
+            // The pdf kernel takes the float angles, widened.
+            const std::size_t angled = batch_detail::angles_float_avx2(m, p.view, p.light, needs, float_angles);
+            done = batch_detail::values_float_avx2(m_model, cell_major, float_angles, angled, valid, block_request, b, values, n);
+            if (done < m) batch_detail::angles_portable(m - done, p.view, p.light, needs, angles, done);
+            if (pdf) {
+                for (std::size_t j = 0; j < done; ++j) {
+                    angles.theta_h[j] = float_angles.theta_h[j], angles.u_h[j] = float_angles.u_h[j];
+                    angles.phi_h[j] = float_angles.phi_h[j], angles.cos_d[j] = float_angles.cos_d[j];
+                    angles.cos_o[j] = float_angles.cos_o[j];
+                }
+            }
+        } else {
+            if (avx2) {
+                batch_detail::angles_avx2(m, p.view, p.light, needs, angles);
+            } else {
+                batch_detail::angles_portable(m, p.view, p.light, needs, angles);
+            }
+            // The values of whole groups of four pairs by vector code, the rest pair by pair.
+            if (vector_values) done = batch_detail::values_avx2(m_model, cell_major, angles, m, valid, block_request, b, values, n);
+        }
         const std::size_t pdf_done = pdf && avx2 ? batch_detail::pdfs_avx2(m_sampler, m_diffuse_probability, m, angles.theta_h,
                                                                            angles.u_h, angles.phi_h, angles.cos_d,
                                                                            angles.cos_o, pdf + b)

@@ -109,6 +109,11 @@ public:
     void sample_batch(std::size_t n, const DirectionArrays& view, const float* u1, const float* u2,
                       BatchWavelengths wavelengths, float* const light_out[3], float* pdf, float* weights) const;
 
+    // The batched eval's arithmetic (npf_batch.h's BatchPrecision); set before shading (not
+    // synchronised with batched calls on other threads). The scalar calls are double always.
+    void set_batch_precision(BatchPrecision p) { m_batch_precision = p; }
+    BatchPrecision batch_precision() const { return m_batch_precision; }
+
     // Probability of choosing the diffuse (cosine) strategy rather than the half-vector one.
     double diffuse_probability() const { return m_diffuse_probability; }
 
@@ -137,6 +142,7 @@ private:
     // 4), so that the batched eval's vector lookups load a corner's ranks at once; empty where a
     // rank is above 4 and on the texture path.
     std::vector<float> m_cell_major_d, m_cell_major_g, m_cell_major_detail;
+    BatchPrecision m_batch_precision = BatchPrecision::Double;
 };
 
 }  // namespace npf
