@@ -49,12 +49,19 @@ struct ValueRequestOfBlock {
 // what values_avx2 loads a corner's ranks from at once. Empty for a rank above 4.
 std::vector<float> cell_major_of(const SpectralBasis& s);
 
+// Each channel's coefficients in one record of eight floats: rho_d, rho_s, D's weights, G's
+// weights, the detail layer's weights, then 0 (channel c at [c * 8]), so that a lane's channel
+// comes with one load. Empty where they do not fit in eight.
+std::vector<float> channel_records_of(const NpfModel& m);
+
 // The cell-major copies of a model's bases (null where absent: values_avx2 then gathers from
-// the rank-major tables, one lane and rank at a time).
+// the rank-major tables, one lane and rank at a time), and the channel records (null where
+// absent: per-lane channels gather coefficient by coefficient).
 struct CellMajorBases {
     const float* d = nullptr;
     const float* g = nullptr;
     const float* detail = nullptr;
+    const float* channel_records = nullptr;
 };
 
 // Pairs [0, groups * 4) of the block whose angles are `angles` and whose first pair is pair

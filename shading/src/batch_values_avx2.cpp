@@ -59,6 +59,35 @@ struct Lanes<Double4> {
         ranks[2] = Double4(_mm256_cvtps_pd(c));
         ranks[3] = Double4(_mm256_cvtps_pd(d));
     }
+    // The eight floats of record index[lane] (channel_records_of) for each lane, as columns:
+    // column k holds float k of the lanes' records (as eight gathers would).
+    // WavelengthLocator::locate of nm[lane * stride] for each lane: the channels around each
+    // wavelength and the weight of the second.
+    static void locate(const WavelengthLocator& locator, const float* nm, std::size_t stride, Index& c0, Index& c1, Double4& t) {
+        alignas(16) std::int32_t i0[4], i1[4];
+        alignas(32) double w[4];
+        for (std::size_t lane = 0; lane < 4; ++lane) {
+            std::uint32_t a, b;
+            float tf;
+            locator.locate(nm[lane * stride], a, b, tf);
+            i0[lane] = std::int32_t(a), i1[lane] = std::int32_t(b), w[lane] = double(tf);
+        }
+        c0 = _mm_load_si128(reinterpret_cast<const __m128i*>(i0));
+        c1 = _mm_load_si128(reinterpret_cast<const __m128i*>(i1));
+        t = simd::load4(w);
+    }
+    static void record_columns(const float* records, Index index, Double4 columns[8]) {
+        alignas(16) std::int32_t i[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(i), index);
+        __m128 lo[4], hi[4];
+        for (int k = 0; k < 4; ++k) {
+            const float* r = records + 8 * std::size_t(i[k]);
+            lo[k] = _mm_loadu_ps(r), hi[k] = _mm_loadu_ps(r + 4);
+        }
+        _MM_TRANSPOSE4_PS(lo[0], lo[1], lo[2], lo[3]);
+        _MM_TRANSPOSE4_PS(hi[0], hi[1], hi[2], hi[3]);
+        for (int k = 0; k < 4; ++k) columns[k] = Double4(_mm256_cvtps_pd(lo[k])), columns[4 + k] = Double4(_mm256_cvtps_pd(hi[k]));
+    }
 };
 
 template <>
@@ -89,6 +118,81 @@ struct Lanes<Float8> {
         _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
         _MM_TRANSPOSE4_PS(r[4], r[5], r[6], r[7]);
         for (int k = 0; k < 4; ++k) ranks[k] = Float8(_mm256_set_m128(r[4 + k], r[k]));
+    }
+    // locate() as vector code, each step WavelengthLocator::locate's on eight lanes (the same
+    // results); lane by lane where a wavelength is outside the grid or the grid has no buckets.
+    static void locate(const WavelengthLocator& locator, const float* nm, std::size_t stride, Index& c0, Index& c1, Float8& t) {
+        const WavelengthLocator::Tables w = locator.tables();
+        alignas(32) float lambda[8];
+        for (std::size_t lane = 0; lane < 8; ++lane) lambda[lane] = nm[lane * stride];
+        const __m256 x = _mm256_load_ps(lambda);
+        const __m256 inside =
+            _mm256_and_ps(_mm256_cmp_ps(x, _mm256_set1_ps(w.lo), _CMP_GE_OQ), _mm256_cmp_ps(x, _mm256_set1_ps(w.hi), _CMP_LE_OQ));
+        if (!w.start || _mm256_movemask_ps(inside) != 0xFF) {
+            alignas(32) std::int32_t i0[8], i1[8];
+            alignas(32) float tf[8];
+            for (std::size_t lane = 0; lane < 8; ++lane) {
+                std::uint32_t a, b;
+                locator.locate(lambda[lane], a, b, tf[lane]);
+                i0[lane] = std::int32_t(a), i1[lane] = std::int32_t(b);
+            }
+            c0 = load_index(i0), c1 = load_index(i1), t = simd::load8(tf);
+            return;
+        }
+        const __m256i one = _mm256_set1_epi32(1), last = _mm256_set1_epi32(int(w.n) - 1);
+        const __m256 scaled = _mm256_mul_ps(_mm256_sub_ps(x, _mm256_set1_ps(w.lo)), _mm256_set1_ps(w.buckets_per_nm));
+        const __m256i bucket = _mm256_min_epi32(_mm256_cvttps_epi32(scaled), _mm256_set1_epi32(int(w.buckets) - 1));
+        __m256i i = gather_int(w.start, bucket);
+        for (;;) {  // up while the next grid wavelength is at or below lambda
+            const __m256i next = _mm256_add_epi32(i, one);
+            const __m256i up = _mm256_and_si256(_mm256_cmpgt_epi32(_mm256_add_epi32(last, one), next),
+                                                _mm256_castps_si256(_mm256_cmp_ps(
+                                                    simd::gather(w.grid, _mm256_min_epi32(next, last)).v, x, _CMP_LE_OQ)));
+            if (_mm256_testz_si256(up, up)) break;
+            i = _mm256_sub_epi32(i, up);
+        }
+        for (;;) {  // down while this one is above lambda
+            const __m256i down = _mm256_and_si256(_mm256_cmpgt_epi32(i, _mm256_setzero_si256()),
+                                                  _mm256_castps_si256(_mm256_cmp_ps(simd::gather(w.grid, i).v, x, _CMP_GT_OQ)));
+            if (_mm256_testz_si256(down, down)) break;
+            i = _mm256_add_epi32(i, down);
+        }
+        // blend_wavelengths_at at min(i, n - 2).
+        c0 = _mm256_min_epi32(i, _mm256_sub_epi32(last, one));
+        c1 = _mm256_add_epi32(c0, one);
+        const Float8 g0 = simd::gather(w.grid, c0), span = simd::gather(w.grid, c1) - g0;
+        const Float8 v = (Float8(x) - g0) / span;
+        const Float8 clamped = simd::select(v < Float8(0.0), Float8(0.0), simd::select(Float8(1.0) < v, Float8(1.0), v));
+        t = simd::select(span > Float8(0.0), clamped, Float8(0.0));
+    }
+    static __m256i gather_int(const std::uint32_t* table, __m256i index) {
+        alignas(32) std::int32_t i[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(i), index);
+        return _mm256_setr_epi32(int(table[i[0]]), int(table[i[1]]), int(table[i[2]]), int(table[i[3]]), int(table[i[4]]),
+                                 int(table[i[5]]), int(table[i[6]]), int(table[i[7]]));
+    }
+    static void record_columns(const float* records, Index index, Float8 columns[8]) {
+        alignas(32) std::int32_t i[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(i), index);
+        __m256 r[8];
+        for (int k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(records + 8 * std::size_t(i[k]));
+        // The 8 x 8 transpose: pairs, then quadruples within each 128-bit half, then the halves.
+        const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
+        const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+        const __m256 t4 = _mm256_unpacklo_ps(r[4], r[5]), t5 = _mm256_unpackhi_ps(r[4], r[5]);
+        const __m256 t6 = _mm256_unpacklo_ps(r[6], r[7]), t7 = _mm256_unpackhi_ps(r[6], r[7]);
+        const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xEE);
+        const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xEE);
+        const __m256 u4 = _mm256_shuffle_ps(t4, t6, 0x44), u5 = _mm256_shuffle_ps(t4, t6, 0xEE);
+        const __m256 u6 = _mm256_shuffle_ps(t5, t7, 0x44), u7 = _mm256_shuffle_ps(t5, t7, 0xEE);
+        columns[0] = Float8(_mm256_permute2f128_ps(u0, u4, 0x20));
+        columns[1] = Float8(_mm256_permute2f128_ps(u1, u5, 0x20));
+        columns[2] = Float8(_mm256_permute2f128_ps(u2, u6, 0x20));
+        columns[3] = Float8(_mm256_permute2f128_ps(u3, u7, 0x20));
+        columns[4] = Float8(_mm256_permute2f128_ps(u0, u4, 0x31));
+        columns[5] = Float8(_mm256_permute2f128_ps(u1, u5, 0x31));
+        columns[6] = Float8(_mm256_permute2f128_ps(u2, u6, 0x31));
+        columns[7] = Float8(_mm256_permute2f128_ps(u3, u7, 0x31));
     }
 };
 
@@ -189,12 +293,13 @@ void position(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesO
         index[k] = simd::to_int32((hi * rows + di) * cols + pi);
     }
     if (cells.detail) {  // corner by corner, each rank's sum in the same order as below
-        for (int r = 0; r < m.detail.rank; ++r) g.r[r] = V(0.0);
+        V sum[4] = {V(0.0), V(0.0), V(0.0), V(0.0)};  // all four ranks, in registers (the copy pads with 0)
         for (int k = 0; k < 8; ++k) {
             V c[4];
             L::corner_ranks(cells.detail, index[k], c);
-            for (int r = 0; r < m.detail.rank; ++r) g.r[r] = g.r[r] + c[r] * weight[k];
+            for (int r = 0; r < 4; ++r) sum[r] = sum[r] + c[r] * weight[k];
         }
+        for (int r = 0; r < m.detail.rank; ++r) g.r[r] = sum[r];
         return;
     }
     const float* b = m.detail.basis.data();
@@ -205,38 +310,58 @@ void position(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesO
     }
 }
 
-// The channel of each lane: one for all (stored channels, shared wavelengths), or per lane.
+// The channel of each lane: one for all (stored channels, shared wavelengths), or per lane. Each
+// gives rho_d, rho_s, the weights of D's, G's and the detail layer's ranks, and F at a cell.
 template <class V>
 struct SameChannel {
+    const NpfModel& m;
     std::size_t c;
-    V weight(const std::vector<float>& w, int rank, int k) const { return V(double(w[c * std::size_t(rank) + std::size_t(k)])); }
     V of(const std::vector<float>& v) const { return V(double(v[c])); }
-    V f(const NpfModel& m, typename Lanes<V>::Index cell) const { return simd::gather(m.F.data() + c * std::size_t(m.f_theta), cell); }
+    V weight(const SpectralBasis& s, int k) const { return V(double(s.weights[c * std::size_t(s.rank) + std::size_t(k)])); }
+    V rho_d() const { return of(m.rho_d); }
+    V rho_s() const { return of(m.rho_s); }
+    V d(int k) const { return weight(m.D, k); }
+    V g(int k) const { return weight(m.G, k); }
+    V detail(int k) const { return weight(m.detail, k); }
+    V f(typename Lanes<V>::Index cell) const { return simd::gather(m.F.data() + c * std::size_t(m.f_theta), cell); }
 };
+// Per lane: from the channel records where the model has them (one load per lane and a
+// transpose for every coefficient), else gathered one coefficient at a time.
 template <class V>
 struct LaneChannels {
     using L = Lanes<V>;
+    const NpfModel& m;
     typename L::Index c;
-    V weight(const std::vector<float>& w, int rank, int k) const { return simd::gather(w.data(), L::mul_add(c, rank, k)); }
-    V of(const std::vector<float>& v) const { return simd::gather(v.data(), c); }
-    V f(const NpfModel& m, typename L::Index cell) const { return simd::gather(m.F.data(), L::add(L::mul_add(c, m.f_theta, 0), cell)); }
+    V column[8];
+    bool records;
+    LaneChannels(const NpfModel& model, const float* channel_records, typename L::Index channel)
+        : m(model), c(channel), records(channel_records != nullptr) {
+        if (records) L::record_columns(channel_records, c, column);
+    }
+    V gathered(const SpectralBasis& s, int k) const { return simd::gather(s.weights.data(), L::mul_add(c, s.rank, k)); }
+    V rho_d() const { return records ? column[0] : simd::gather(m.rho_d.data(), c); }
+    V rho_s() const { return records ? column[1] : simd::gather(m.rho_s.data(), c); }
+    V d(int k) const { return records ? column[2 + k] : gathered(m.D, k); }
+    V g(int k) const { return records ? column[2 + m.D.rank + k] : gathered(m.G, k); }
+    V detail(int k) const { return records ? column[2 + m.D.rank + m.G.rank + k] : gathered(m.detail, k); }
+    V f(typename L::Index cell) const { return simd::gather(m.F.data(), L::add(L::mul_add(c, m.f_theta, 0), cell)); }
 };
 
 // NpfModel::value, term for term.
 template <class V, class Channel>
 V value_of(const NpfModel& m, const Group<V>& g, const Channel& c) {
     V d(0.0), gi(0.0), go(0.0);
-    for (int k = 0; k < m.D.rank; ++k) d = d + c.weight(m.D.weights, m.D.rank, k) * g.d[k];
+    for (int k = 0; k < m.D.rank; ++k) d = d + c.d(k) * g.d[k];
     for (int k = 0; k < m.G.rank; ++k) {
-        const V w = c.weight(m.G.weights, m.G.rank, k);
+        const V w = c.g(k);
         gi = gi + w * g.g_i[k];
         go = go + w * g.g_o[k];
     }
-    const V fv = c.f(m, g.f0) * (V(1.0) - g.f_t) + c.f(m, g.f1) * g.f_t;
-    const V base = equation::value_of<V>(c.of(m.rho_d), c.of(m.rho_s), d, fv, gi, go, g.inv_cos_product);
+    const V fv = c.f(g.f0) * (V(1.0) - g.f_t) + c.f(g.f1) * g.f_t;
+    const V base = equation::value_of<V>(c.rho_d(), c.rho_s(), d, fv, gi, go, g.inv_cos_product);
     if (m.detail.rank == 0) return base;
     V r(0.0);
-    for (int k = 0; k < m.detail.rank; ++k) r = r + c.weight(m.detail.weights, m.detail.rank, k) * g.r[k];
+    for (int k = 0; k < m.detail.rank; ++k) r = r + c.detail(k) * g.r[k];
     return equation::with_detail_of<V>(base, r);
 }
 
@@ -264,23 +389,18 @@ std::size_t values_of(const NpfModel& m, const CellMajorBases& cells, const Bloc
         }
         position<V>(m, cells, angles, j, keep, g);
         if (request.stored) {
-            for (std::size_t k = 0; k < request.count; ++k) store_values(value_of(m, g, SameChannel<V>{k}), g.cos_o, keep, out + k * n);
+            for (std::size_t k = 0; k < request.count; ++k) store_values(value_of(m, g, SameChannel<V>{m, k}), g.cos_o, keep, out + k * n);
             continue;
         }
         const BatchWavelengths& wl = request.wavelengths;
+        const float* nm = wl.nm + (wl.per_pair ? (first + j) * request.count : 0);
+        const std::size_t stride = wl.per_pair ? request.count : 0;
         for (std::size_t k = 0; k < request.count; ++k) {
-            alignas(32) std::int32_t c0[kLanes], c1[kLanes];
-            alignas(32) typename L::Scalar t[kLanes];
-            for (std::size_t lane = 0; lane < kLanes; ++lane) {
-                const float* nm = wl.nm + (wl.per_pair ? (first + j + lane) * request.count : 0);
-                std::uint32_t i0, i1;
-                float tf;
-                request.locator->locate(nm[k], i0, i1, tf);
-                c0[lane] = std::int32_t(i0), c1[lane] = std::int32_t(i1), t[lane] = typename L::Scalar(tf);
-            }
-            const V tv = L::load(t);
-            const V a = value_of(m, g, LaneChannels<V>{L::load_index(c0)});
-            const V b = value_of(m, g, LaneChannels<V>{L::load_index(c1)});
+            typename L::Index c0, c1;
+            V tv;
+            L::locate(*request.locator, nm + k, stride, c0, c1, tv);
+            const V a = value_of(m, g, LaneChannels<V>(m, cells.channel_records, c0));
+            const V b = value_of(m, g, LaneChannels<V>(m, cells.channel_records, c1));
             // (1 - t) a + t b, and a itself where t is 0 (as write_values, which skips b there).
             const V v = simd::select(tv == V(0.0), a, (V(1.0) - tv) * a + tv * b);
             store_values(v, g.cos_o, keep, out + k * n);

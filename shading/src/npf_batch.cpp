@@ -48,6 +48,21 @@ std::vector<float> cell_major_of(const SpectralBasis& s) {
     return out;
 }
 
+std::vector<float> channel_records_of(const NpfModel& m) {
+    const std::size_t rd = std::size_t(m.D.rank), rg = std::size_t(m.G.rank), rr = std::size_t(m.detail.rank);
+    if (2 + rd + rg + rr > 8) return {};
+    const std::size_t channels = m.channel_count();
+    std::vector<float> out(channels * 8, 0.f);
+    for (std::size_t c = 0; c < channels; ++c) {
+        float* r = out.data() + c * 8;
+        r[0] = m.rho_d[c], r[1] = m.rho_s[c];
+        for (std::size_t k = 0; k < rd; ++k) r[2 + k] = m.D.weights[c * rd + k];
+        for (std::size_t k = 0; k < rg; ++k) r[2 + rd + k] = m.G.weights[c * rg + k];
+        for (std::size_t k = 0; k < rr; ++k) r[2 + rd + rg + k] = m.detail.weights[c * rr + k];
+    }
+    return out;
+}
+
 }  // namespace batch_detail
 
 void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const DirectionArrays& light,
@@ -82,7 +97,7 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
     const batch_detail::ValueRequestOfBlock block_request{stored, wavelengths, &m_wavelengths, count};
     auto data_or_null = [](const std::vector<float>& v) { return v.empty() ? nullptr : v.data(); };
     const batch_detail::CellMajorBases cell_major{data_or_null(m_cell_major_d), data_or_null(m_cell_major_g),
-                                                  data_or_null(m_cell_major_detail)};
+                                                  data_or_null(m_cell_major_detail), data_or_null(m_channel_records)};
     const AngleNeeds needs = m_model.angle_needs();
     batch_detail::BlockAngles angles;
     batch_detail::BlockAnglesOf<float> float_angles;

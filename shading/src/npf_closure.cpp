@@ -115,6 +115,7 @@ void NpfClosure::finish_construction() {
         m_cell_major_d = batch_detail::cell_major_of(m_model.D);
         m_cell_major_g = batch_detail::cell_major_of(m_model.G);
         m_cell_major_detail = batch_detail::cell_major_of(m_model.detail);
+        m_channel_records = batch_detail::channel_records_of(m_model);
     }
     try {
         m_sampler = HalfVectorSampler(HalfVectorSampler::luminance_averaged_ndf(m_model), m_model.d_theta,

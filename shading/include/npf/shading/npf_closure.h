@@ -142,6 +142,8 @@ private:
     // 4), so that the batched eval's vector lookups load a corner's ranks at once; empty where a
     // rank is above 4 and on the texture path.
     std::vector<float> m_cell_major_d, m_cell_major_g, m_cell_major_detail;
+    // Each channel's coefficients in eight floats (batch_values.h), for per-lane channels.
+    std::vector<float> m_channel_records;
     BatchPrecision m_batch_precision = BatchPrecision::Double;
 };
 
