@@ -7,6 +7,7 @@
 #include <npf/shading/npf_pair_angles.h>
 
 #include <cstddef>
+#include <cstdint>
 
 namespace npf::batch_detail {
 
@@ -59,6 +60,9 @@ void half_vectors_portable(std::size_t n, const float* const view[3], const floa
 void angles_avx2(std::size_t n, const float* const view[3], const float* const light[3], AngleNeeds needs, BlockAngles& out);
 void half_vectors_avx2(std::size_t n, const float* const view[3], const float* const light[3], bool d_azimuth,
                        BlockHalfVectors& out);
+// pair_in_domain (npf_pair_angles.h) of pairs [0, n) rounded down to a multiple of 8, eight at a
+// time: valid[j] 1 or 0. Returns how many (0 without AVX2 in the build); the caller does the rest.
+std::size_t domains_avx2(std::size_t n, const float* const view[3], const float* const light[3], std::uint8_t* valid);
 // The same angles in float, eight pairs per step (BatchPrecision::Float): pairs [0, n) rounded
 // down to a multiple of 8; returns how many (0 without AVX2 in the build).
 std::size_t angles_float_avx2(std::size_t n, const float* const view[3], const float* const light[3], AngleNeeds needs,

@@ -9,6 +9,8 @@
 #include "simd_double4.h"
 #include "simd_float8.h"
 
+#include <limits>
+
 namespace npf::batch_detail {
 
 namespace {
@@ -80,6 +82,24 @@ void half_vectors_avx2(std::size_t n, const float* const view[3], const float* c
     return half_vectors<false>(n, view, light, out);
 }
 
+std::size_t domains_avx2(std::size_t n, const float* const view[3], const float* const light[3], std::uint8_t* valid) {
+    // Both z above 0 and every component finite (|x| <= the largest float: false for NaN).
+    const __m256 largest = _mm256_set1_ps(std::numeric_limits<float>::max()), zero = _mm256_setzero_ps();
+    const __m256 sign = _mm256_set1_ps(-0.f);
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        __m256 ok = _mm256_and_ps(_mm256_cmp_ps(_mm256_loadu_ps(view[2] + i), zero, _CMP_GT_OQ),
+                                  _mm256_cmp_ps(_mm256_loadu_ps(light[2] + i), zero, _CMP_GT_OQ));
+        for (const float* const* d : {view, light}) {
+            for (int c = 0; c < 3; ++c)
+                ok = _mm256_and_ps(ok, _mm256_cmp_ps(_mm256_andnot_ps(sign, _mm256_loadu_ps(d[c] + i)), largest, _CMP_LE_OQ));
+        }
+        const int bits = _mm256_movemask_ps(ok);
+        for (int k = 0; k < 8; ++k) valid[i + std::size_t(k)] = std::uint8_t((bits >> k) & 1);
+    }
+    return i;
+}
+
 std::size_t angles_float_avx2(std::size_t n, const float* const view[3], const float* const light[3], AngleNeeds needs,
                               BlockAnglesOf<float>& out) {
     const int k = (needs.d_azimuth ? 4 : 0) + (needs.g_azimuth ? 2 : 0) + (needs.detail ? 1 : 0);
@@ -113,6 +133,8 @@ void half_vectors_avx2(std::size_t n, const float* const view[3], const float* c
 std::size_t angles_float_avx2(std::size_t, const float* const[3], const float* const[3], AngleNeeds, BlockAnglesOf<float>&) {
     return 0;  // no float lanes in this build: the caller takes the double path
 }
+
+std::size_t domains_avx2(std::size_t, const float* const[3], const float* const[3], std::uint8_t*) { return 0; }
 
 }  // namespace npf::batch_detail
 

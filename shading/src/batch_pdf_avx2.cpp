@@ -23,10 +23,9 @@ __m128i cell_of(Double4 x, int last) {
     return _mm_max_epi32(_mm_min_epi32(_mm256_cvttpd_epi32(x.v), _mm_set1_epi32(last)), _mm_setzero_si128());
 }
 
-}  // namespace
-
-std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const double* theta_h,
-                      const double* u_h, const double* phi_h, const double* cos_d, const double* cos_light, float* pdf) {
+template <class S>
+std::size_t pdfs_of(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const S* theta_h,
+                    const S* u_h, const S* phi_h, const S* cos_d, const S* cos_light, float* pdf) {
     if (sampler.empty() || !(diffuse_probability < 1.0)) return 0;
     const std::vector<AliasTable::Bin>& bins = sampler.cells().bins();
     const double* inv_solid_angle = sampler.inv_solid_angle().data();
@@ -56,11 +55,27 @@ std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probabili
     return groups;
 }
 
+}  // namespace
+
+std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const double* theta_h,
+                      const double* u_h, const double* phi_h, const double* cos_d, const double* cos_light, float* pdf) {
+    return pdfs_of(sampler, diffuse_probability, n, theta_h, u_h, phi_h, cos_d, cos_light, pdf);
+}
+
+std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const float* theta_h,
+                      const float* u_h, const float* phi_h, const float* cos_d, const float* cos_light, float* pdf) {
+    return pdfs_of(sampler, diffuse_probability, n, theta_h, u_h, phi_h, cos_d, cos_light, pdf);
+}
+
 }  // namespace npf::batch_detail
 #else
 namespace npf::batch_detail {
 std::size_t pdfs_avx2(const HalfVectorSampler&, double, std::size_t, const double*, const double*, const double*,
                       const double*, const double*, float*) {
+    return 0;
+}
+std::size_t pdfs_avx2(const HalfVectorSampler&, double, std::size_t, const float*, const float*, const float*, const float*,
+                      const float*, float*) {
     return 0;
 }
 }  // namespace npf::batch_detail

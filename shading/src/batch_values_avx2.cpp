@@ -59,8 +59,6 @@ struct Lanes<Double4> {
         ranks[2] = Double4(_mm256_cvtps_pd(c));
         ranks[3] = Double4(_mm256_cvtps_pd(d));
     }
-    // The eight floats of record index[lane] (channel_records_of) for each lane, as columns:
-    // column k holds float k of the lanes' records (as eight gathers would).
     // WavelengthLocator::locate of nm[lane * stride] for each lane: the channels around each
     // wavelength and the weight of the second.
     static void locate(const WavelengthLocator& locator, const float* nm, std::size_t stride, Index& c0, Index& c1, Double4& t) {
@@ -76,12 +74,14 @@ struct Lanes<Double4> {
         c1 = _mm_load_si128(reinterpret_cast<const __m128i*>(i1));
         t = simd::load4(w);
     }
-    static void record_columns(const float* records, Index index, Double4 columns[8]) {
+    // The eight floats from base + stride * index[lane] for each lane (a channel record, or two
+    // paired cells), as columns: column k holds float k of the lanes' eight (as eight gathers would).
+    static void columns8(const float* base, std::size_t stride, Index index, Double4 columns[8]) {
         alignas(16) std::int32_t i[4];
         _mm_store_si128(reinterpret_cast<__m128i*>(i), index);
         __m128 lo[4], hi[4];
         for (int k = 0; k < 4; ++k) {
-            const float* r = records + 8 * std::size_t(i[k]);
+            const float* r = base + stride * std::size_t(i[k]);
             lo[k] = _mm_loadu_ps(r), hi[k] = _mm_loadu_ps(r + 4);
         }
         _MM_TRANSPOSE4_PS(lo[0], lo[1], lo[2], lo[3]);
@@ -171,11 +171,11 @@ struct Lanes<Float8> {
         return _mm256_setr_epi32(int(table[i[0]]), int(table[i[1]]), int(table[i[2]]), int(table[i[3]]), int(table[i[4]]),
                                  int(table[i[5]]), int(table[i[6]]), int(table[i[7]]));
     }
-    static void record_columns(const float* records, Index index, Float8 columns[8]) {
+    static void columns8(const float* base, std::size_t stride, Index index, Float8 columns[8]) {
         alignas(32) std::int32_t i[8];
         _mm256_store_si256(reinterpret_cast<__m256i*>(i), index);
         __m256 r[8];
-        for (int k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(records + 8 * std::size_t(i[k]));
+        for (int k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(base + stride * std::size_t(i[k]));
         // The 8 x 8 transpose: pairs, then quadruples within each 128-bit half, then the halves.
         const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
         const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
@@ -200,39 +200,49 @@ struct Lanes<Float8> {
 template <class V>
 struct Corners {
     typename Lanes<V>::Index index[4];
+    // In the paired copy (paired_cells_of): corners 0 and 2 (their rows, side by side), or
+    // corners 0 and 1 at pair[0] and corners 2 and 3 at pair[1].
+    typename Lanes<V>::Index pair[2];
     V weight[4];
     bool one_column;  // corners 1 and 3 are corners 0 and 2 (a table of one column): gathered once
 };
 
 template <class V>
-Corners<V> bilinear_of(const LerpOf<V>& row, const LerpOf<V>& col, int cols) {
+Corners<V> bilinear_of(const LerpOf<V>& row, const LerpOf<V>& col, int cols, bool paired) {
     const V c = V(double(cols));
     const V r0 = row.i0 * c, r1 = row.i1 * c;
     Corners<V> k;
-    k.index[0] = simd::to_int32(r0 + col.i0);
-    k.index[1] = simd::to_int32(r0 + col.i1);
-    k.index[2] = simd::to_int32(r1 + col.i0);
-    k.index[3] = simd::to_int32(r1 + col.i1);
-    table::generic::bilinear_weights<V>(row.t, col.t, k.weight);
     k.one_column = cols == 1;
+    if (paired && k.one_column) {
+        k.pair[0] = simd::to_int32(row.i0);
+    } else if (paired) {
+        const V padded = V(double(cols + 1));
+        k.pair[0] = simd::to_int32(row.i0 * padded + col.i0);
+        k.pair[1] = simd::to_int32(row.i1 * padded + col.i0);
+    } else {
+        k.index[0] = simd::to_int32(r0 + col.i0);
+        k.index[1] = simd::to_int32(r0 + col.i1);
+        k.index[2] = simd::to_int32(r1 + col.i0);
+        k.index[3] = simd::to_int32(r1 + col.i1);
+    }
+    table::generic::bilinear_weights<V>(row.t, col.t, k.weight);
     return k;
 }
 
-// The bilinear value of each rank at a group of pairs: from the cell-major copy where there is one
+// The bilinear value of each rank at a group of pairs: from the paired copy where there is one
 // (the same products and sums, so the same bits), else gathered rank by rank.
 template <class V>
-void project(const SpectralBasis& s, const float* cell_major, const Corners<V>& k, V* out) {
-    if (cell_major) {
-        V c0[4], c1[4], c2[4], c3[4];
-        Lanes<V>::corner_ranks(cell_major, k.index[0], c0);
-        Lanes<V>::corner_ranks(cell_major, k.index[2], c2);
+void project(const SpectralBasis& s, const float* paired, const Corners<V>& k, V* out) {
+    if (paired) {
+        V a[8];  // ranks of the first cell of the pair in a[0..3], of the second in a[4..7]
+        Lanes<V>::columns8(paired, 4, k.pair[0], a);
         if (k.one_column) {
-            for (int r = 0; r < s.rank; ++r) out[r] = c0[r] * k.weight[0] + c0[r] * k.weight[1] + c2[r] * k.weight[2] + c2[r] * k.weight[3];
+            for (int r = 0; r < s.rank; ++r) out[r] = a[r] * k.weight[0] + a[r] * k.weight[1] + a[4 + r] * k.weight[2] + a[4 + r] * k.weight[3];
             return;
         }
-        Lanes<V>::corner_ranks(cell_major, k.index[1], c1);
-        Lanes<V>::corner_ranks(cell_major, k.index[3], c3);
-        for (int r = 0; r < s.rank; ++r) out[r] = c0[r] * k.weight[0] + c1[r] * k.weight[1] + c2[r] * k.weight[2] + c3[r] * k.weight[3];
+        V b[8];
+        Lanes<V>::columns8(paired, 4, k.pair[1], b);
+        for (int r = 0; r < s.rank; ++r) out[r] = a[r] * k.weight[0] + a[4 + r] * k.weight[1] + b[r] * k.weight[2] + b[4 + r] * k.weight[3];
         return;
     }
     const float* t = s.basis.data();
@@ -254,6 +264,8 @@ template <class V>
 struct Group {
     V cos_o, inv_cos_product, f_t;
     typename Lanes<V>::Index f0, f1;
+    bool f_cells;                 // F of every channel at f0 and f1 below (cell-major F, stored channels)
+    V f_at0[4], f_at1[4];
     V d[kVectorRank], g_i[kVectorRank], g_o[kVectorRank], r[kVectorRank];
 };
 
@@ -267,40 +279,48 @@ LerpOf<V> g_column(V phi, int g_phi) {
 // false) look up at angles 0 (valid cells; their values are zeroed later).
 template <class V>
 void position(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<typename Lanes<V>::Scalar>& a,
-              std::size_t j, typename Lanes<V>::Keep keep, Group<V>& g) {
+              std::size_t j, typename Lanes<V>::Keep keep, bool stored, Group<V>& g) {
     using L = Lanes<V>;
     auto at = [&](const typename L::Scalar* field) { return L::keep(keep, L::load(field + j)); };
     g.cos_o = at(a.cos_o);
     g.inv_cos_product = at(a.inv_cos_product);
     const V u_h = at(a.u_h), theta_d = at(a.theta_d);
-    project(m.D, cells.d, bilinear_of(equation::d_row_of(u_h, m.d_theta), equation::column_of(at(a.phi_h), m.d_phi), m.d_phi), g.d);
+    project(m.D, cells.d, bilinear_of(equation::d_row_of(u_h, m.d_theta), equation::column_of(at(a.phi_h), m.d_phi), m.d_phi, cells.d), g.d);
     const LerpOf<V> f = equation::f_row_of(theta_d, m.f_theta);
     g.f0 = simd::to_int32(f.i0);
     g.f1 = simd::to_int32(f.i1);
     g.f_t = f.t;
-    project(m.G, cells.g, bilinear_of(equation::g_row_of(at(a.theta_gi), m.g_theta), g_column(at(a.phi_gi), m.g_phi), m.g_phi), g.g_i);
-    project(m.G, cells.g, bilinear_of(equation::g_row_of(at(a.theta_go), m.g_theta), g_column(at(a.phi_go), m.g_phi), m.g_phi), g.g_o);
+    g.f_cells = stored && cells.f;
+    if (g.f_cells) {
+        L::corner_ranks(cells.f, g.f0, g.f_at0);
+        L::corner_ranks(cells.f, g.f1, g.f_at1);
+    }
+    project(m.G, cells.g, bilinear_of(equation::g_row_of(at(a.theta_gi), m.g_theta), g_column(at(a.phi_gi), m.g_phi), m.g_phi, cells.g), g.g_i);
+    project(m.G, cells.g, bilinear_of(equation::g_row_of(at(a.theta_go), m.g_theta), g_column(at(a.phi_go), m.g_phi), m.g_phi, cells.g), g.g_o);
     if (!m.has_detail()) return;
     const DetailGrid& grid = m.detail_grid;
     LerpOf<V> h, d, p;
     detail_position_of(grid, u_h, theta_d, at(a.phi_d), h, d, p);
     V weight[8];
     trilinear_weights<V>(h.t, d.t, p.t, weight);
-    typename L::Index index[8];
     const V rows = V(double(grid.theta_d)), cols = V(double(grid.phi_d));
-    for (int k = 0; k < 8; ++k) {
-        const V hi = k & 4 ? h.i1 : h.i0, di = k & 2 ? d.i1 : d.i0, pi = k & 1 ? p.i1 : p.i0;
-        index[k] = simd::to_int32((hi * rows + di) * cols + pi);
-    }
-    if (cells.detail) {  // corner by corner, each rank's sum in the same order as below
+    if (cells.detail) {  // corners 2q and 2q + 1 (along phi_d) side by side; each rank's sum in the order below
+        const V padded = V(double(grid.phi_d + 1));
         V sum[4] = {V(0.0), V(0.0), V(0.0), V(0.0)};  // all four ranks, in registers (the copy pads with 0)
-        for (int k = 0; k < 8; ++k) {
-            V c[4];
-            L::corner_ranks(cells.detail, index[k], c);
-            for (int r = 0; r < 4; ++r) sum[r] = sum[r] + c[r] * weight[k];
+        for (int q = 0; q < 4; ++q) {
+            const V hi = q & 2 ? h.i1 : h.i0, di = q & 1 ? d.i1 : d.i0;
+            V c[8];
+            L::columns8(cells.detail, 4, simd::to_int32((hi * rows + di) * padded + p.i0), c);
+            for (int r = 0; r < 4; ++r) sum[r] = sum[r] + c[r] * weight[2 * q];
+            for (int r = 0; r < 4; ++r) sum[r] = sum[r] + c[4 + r] * weight[2 * q + 1];
         }
         for (int r = 0; r < m.detail.rank; ++r) g.r[r] = sum[r];
         return;
+    }
+    typename L::Index index[8];
+    for (int k = 0; k < 8; ++k) {
+        const V hi = k & 4 ? h.i1 : h.i0, di = k & 2 ? d.i1 : d.i0, pi = k & 1 ? p.i1 : p.i0;
+        index[k] = simd::to_int32((hi * rows + di) * cols + pi);
     }
     const float* b = m.detail.basis.data();
     for (int r = 0; r < m.detail.rank; ++r, b += m.detail.cells) {
@@ -324,6 +344,10 @@ struct SameChannel {
     V g(int k) const { return weight(m.G, k); }
     V detail(int k) const { return weight(m.detail, k); }
     V f(typename Lanes<V>::Index cell) const { return simd::gather(m.F.data() + c * std::size_t(m.f_theta), cell); }
+    V f_value(const Group<V>& g) const {
+        if (g.f_cells) return g.f_at0[c] * (V(1.0) - g.f_t) + g.f_at1[c] * g.f_t;
+        return f(g.f0) * (V(1.0) - g.f_t) + f(g.f1) * g.f_t;
+    }
 };
 // Per lane: from the channel records where the model has them (one load per lane and a
 // transpose for every coefficient), else gathered one coefficient at a time.
@@ -336,7 +360,7 @@ struct LaneChannels {
     bool records;
     LaneChannels(const NpfModel& model, const float* channel_records, typename L::Index channel)
         : m(model), c(channel), records(channel_records != nullptr) {
-        if (records) L::record_columns(channel_records, c, column);
+        if (records) L::columns8(channel_records, 8, c, column);
     }
     V gathered(const SpectralBasis& s, int k) const { return simd::gather(s.weights.data(), L::mul_add(c, s.rank, k)); }
     V rho_d() const { return records ? column[0] : simd::gather(m.rho_d.data(), c); }
@@ -345,6 +369,7 @@ struct LaneChannels {
     V g(int k) const { return records ? column[2 + m.D.rank + k] : gathered(m.G, k); }
     V detail(int k) const { return records ? column[2 + m.D.rank + m.G.rank + k] : gathered(m.detail, k); }
     V f(typename L::Index cell) const { return simd::gather(m.F.data(), L::add(L::mul_add(c, m.f_theta, 0), cell)); }
+    V f_value(const Group<V>& g) const { return f(g.f0) * (V(1.0) - g.f_t) + f(g.f1) * g.f_t; }
 };
 
 // NpfModel::value, term for term.
@@ -357,7 +382,7 @@ V value_of(const NpfModel& m, const Group<V>& g, const Channel& c) {
         gi = gi + w * g.g_i[k];
         go = go + w * g.g_o[k];
     }
-    const V fv = c.f(g.f0) * (V(1.0) - g.f_t) + c.f(g.f1) * g.f_t;
+    const V fv = c.f_value(g);
     const V base = equation::value_of<V>(c.rho_d(), c.rho_s(), d, fv, gi, go, g.inv_cos_product);
     if (m.detail.rank == 0) return base;
     V r(0.0);
@@ -387,7 +412,7 @@ std::size_t values_of(const NpfModel& m, const CellMajorBases& cells, const Bloc
             for (std::size_t k = 0; k < request.count; ++k) L::store_zero(out + k * n);
             continue;
         }
-        position<V>(m, cells, angles, j, keep, g);
+        position<V>(m, cells, angles, j, keep, request.stored, g);
         if (request.stored) {
             for (std::size_t k = 0; k < request.count; ++k) store_values(value_of(m, g, SameChannel<V>{m, k}), g.cos_o, keep, out + k * n);
             continue;

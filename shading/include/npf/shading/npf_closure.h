@@ -139,9 +139,11 @@ private:
     WavelengthLocator m_wavelengths;  // the stored grid (spectral materials)
     double m_diffuse_probability = 0.0;
     // D's, G's and the detail layer's bases again, cell by cell (four floats per cell: ranks up to
-    // 4), so that the batched eval's vector lookups load a corner's ranks at once; empty where a
-    // rank is above 4 and on the texture path.
+    // 4) with neighbours side by side (batch_values.h's paired_cells_of), so that the batched
+    // eval's vector lookups load two corners' ranks at once; empty where a rank is above 4 and on
+    // the texture path.
     std::vector<float> m_cell_major_d, m_cell_major_g, m_cell_major_detail;
+    std::vector<float> m_cell_major_f;  // F likewise (up to 4 channels), for the stored channels
     // Each channel's coefficients in eight floats (batch_values.h), for per-lane channels.
     std::vector<float> m_channel_records;
     BatchPrecision m_batch_precision = BatchPrecision::Double;
