@@ -208,7 +208,7 @@ struct Corners {
 };
 
 template <class V>
-Corners<V> bilinear_of(const LerpOf<V>& row, const LerpOf<V>& col, int cols, bool paired) {
+NPF_GENERIC_INLINE Corners<V> bilinear_of(const LerpOf<V>& row, const LerpOf<V>& col, int cols, bool paired) {
     const V c = V(double(cols));
     const V r0 = row.i0 * c, r1 = row.i1 * c;
     Corners<V> k;
@@ -232,7 +232,7 @@ Corners<V> bilinear_of(const LerpOf<V>& row, const LerpOf<V>& col, int cols, boo
 // The bilinear value of each rank at a group of pairs: from the paired copy where there is one
 // (the same products and sums, so the same bits), else gathered rank by rank.
 template <class V>
-void project(const SpectralBasis& s, const float* paired, const Corners<V>& k, V* out) {
+NPF_GENERIC_INLINE void project(const SpectralBasis& s, const float* paired, const Corners<V>& k, V* out) {
     if (paired) {
         V a[8];  // ranks of the first cell of the pair in a[0..3], of the second in a[4..7]
         Lanes<V>::columns8(paired, 4, k.pair[0], a);
@@ -374,7 +374,7 @@ struct LaneChannels {
 
 // NpfModel::value, term for term.
 template <class V, class Channel>
-V value_of(const NpfModel& m, const Group<V>& g, const Channel& c) {
+NPF_GENERIC_INLINE V value_of(const NpfModel& m, const Group<V>& g, const Channel& c) {
     V d(0.0), gi(0.0), go(0.0);
     for (int k = 0; k < m.D.rank; ++k) d = d + c.d(k) * g.d[k];
     for (int k = 0; k < m.G.rank; ++k) {

@@ -129,8 +129,9 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
             done = batch_detail::values_float_avx2(m_model, cell_major, float_angles, angled, valid, block_request, b, values, n);
             if (done < m) batch_detail::angles_portable(m - done, p.view, p.light, needs, angles, done);
             if (pdf) {
-                pdf_done = batch_detail::pdfs_avx2(m_sampler, m_diffuse_probability, done, float_angles.theta_h, float_angles.u_h,
-                                                   float_angles.phi_h, float_angles.cos_d, float_angles.cos_o, pdf + b);
+                pdf_done = batch_detail::pdfs_float_avx2(m_sampler, m_diffuse_probability, done, float_angles.theta_h,
+                                                         float_angles.u_h, float_angles.phi_h, float_angles.cos_d,
+                                                         float_angles.cos_o, pdf + b);
             }
         } else {
             if (avx2) {
