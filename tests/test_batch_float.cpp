@@ -5,6 +5,7 @@
 // Carlo: every pixel difference is the eval's) at 80 dB or more. Materials: the repository's
 // shipped RGB factor texture with a detail layer, and an analytic anisotropic spectral one with a
 // detail layer whose residual reaches the clamp.
+#include "batched_brdf.h"
 #include "npf_test_factors.h"
 #include "synthetic_rgl.h"
 
@@ -14,7 +15,6 @@
 #include <npf/render/image_metrics.h>
 #include <npf/render/lighting.h>
 #include <npf/shading/npf_batch.h>
-#include <npf/shading/npf_brdf.h>
 #include <npf/shading/npf_closure.h>
 #include <npf/shading/npf_texture_file.h>
 
@@ -104,42 +104,12 @@ FloatAgainstDouble compare_precisions(const std::string& path, BatchWavelengths 
     return out;
 }
 
-// An npf::Brdf whose eval_cos is the batched closure's (the pair in all eight lanes of a batch),
-// for rendering through either precision.
-class BatchedBrdf final : public npf::Brdf {
-public:
-    BatchedBrdf(const std::string& path, BatchPrecision precision) : m_scalar(path), m_closure(path) {
-        m_closure.set_batch_precision(precision);
-    }
-    const npf::BrdfInfo& info() const override { return m_scalar.info(); }
-    void eval_cos(const Vec3& wi, const Vec3& wo, const npf::ChannelQuery& query, float* out) const override {
-        constexpr std::size_t kLanes = 8;
-        const npf::Channels& r = query.requested;
-        const BatchWavelengths wl = r.is_rgb() ? BatchWavelengths::stored() : BatchWavelengths::shared(r.wavelengths().data(), int(r.size()));
-        const std::size_t count = m_closure.value_count(wl);
-        float v[6][kLanes];
-        const float c[6] = {wi.x, wi.y, wi.z, wo.x, wo.y, wo.z};
-        for (int k = 0; k < 6; ++k) std::fill(v[k], v[k] + kLanes, c[k]);
-        std::vector<float> values(count * kLanes);
-        m_closure.eval_batch(kLanes, {v[0], v[1], v[2]}, {v[3], v[4], v[5]}, wl, values.data(), nullptr);
-        for (std::size_t k = 0; k < count; ++k) out[k] = values[k * kLanes];
-    }
-    float pdf(const Vec3& wi, const Vec3& wo) const override { return m_scalar.pdf(wi, wo); }
-    bool sample(const Vec3& wi, const npf::Vec2& u, const npf::ChannelQuery& query, npf::BrdfSample& s,
-                float* weight) const override {
-        return m_scalar.sample(wi, u, query, s, weight);
-    }
-
-private:
-    npf::NpfBrdf m_scalar;
-    NpfClosure m_closure;
-};
-
 double paired_psnr(const std::string& path) {
     npf::render::RenderOptions options;
     options.width = options.height = 48;
     options.threads = 1;
     const auto lights = npf::render::directional_lights();
+    using npf::testing::BatchedBrdf;
     const npf::render::RenderResult d = npf::render::render_directional(BatchedBrdf(path, BatchPrecision::Double), lights, options);
     const npf::render::RenderResult f = npf::render::render_directional(BatchedBrdf(path, BatchPrecision::Float), lights, options);
     return npf::render::compare_images(d.image, f.image).psnr;
