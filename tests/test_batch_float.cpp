@@ -175,6 +175,45 @@ TEST(BatchFloat, AnalyticAnisotropicSpectralIsWithinTheBudget) {
     std::printf("analytic: paired directional render %.1f dB\n", psnr);
 }
 
+// sample_batch in float lanes: the same draws (double either way), its weights (eval_batch's
+// values over its pdf) within the budget.
+TEST(BatchFloat, SampleBatchDrawsAlikeAndWeighsWithinTheBudget) {
+    if (!npf::simd_isa_supported(npf::SimdIsa::Avx2)) GTEST_SKIP() << "no AVX2: the float setting is the double path";
+    NpfClosure doubles(kShipped), floats(kShipped);
+    floats.set_batch_precision(BatchPrecision::Float);
+    const std::size_t n = 1000;
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    std::vector<float> vx, vy, vz, u1, u2;
+    for (std::size_t i = 0; i < n; ++i) {
+        const float z = 0.05f + 0.95f * u(rng), phi = 6.2831853f * u(rng), r = std::sqrt(1.f - z * z);
+        vx.push_back(r * std::cos(phi)), vy.push_back(r * std::sin(phi)), vz.push_back(z);
+        u1.push_back(u(rng)), u2.push_back(u(rng));
+    }
+    struct Out {
+        std::vector<float> x, y, z, pdf, weights;
+    };
+    auto run = [&](const NpfClosure& c) {
+        Out o{std::vector<float>(n), std::vector<float>(n), std::vector<float>(n), std::vector<float>(n), std::vector<float>(3 * n)};
+        float* const light[3] = {o.x.data(), o.y.data(), o.z.data()};
+        c.sample_batch(n, {vx.data(), vy.data(), vz.data()}, u1.data(), u2.data(), BatchWavelengths::stored(), light, o.pdf.data(),
+                       o.weights.data());
+        return o;
+    };
+    const Out d = run(doubles), f = run(floats);
+    EXPECT_EQ(d.x, f.x);
+    EXPECT_EQ(d.y, f.y);
+    EXPECT_EQ(d.z, f.z);
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = 0; i < 3 * n; ++i) {
+        num += (double(f.weights[i]) - double(d.weights[i])) * (double(f.weights[i]) - double(d.weights[i]));
+        den += double(d.weights[i]) * double(d.weights[i]);
+    }
+    EXPECT_GT(den, 0.0);
+    EXPECT_LE(std::sqrt(num / den), kBudgetRelativeRms);
+    std::printf("sample_batch weights: relative RMS %.3g\n", std::sqrt(num / den));
+}
+
 // The thresholds mean something: the same measures flag a path whose values are off by a few
 // parts in 10^4 (half of float's 24 bits lost), which the float lanes must not be.
 TEST(BatchFloat, TheBudgetCatchesAPerturbedPath) {

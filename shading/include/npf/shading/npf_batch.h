@@ -36,7 +36,8 @@ struct BatchWavelengths {
 // scalar closure's bits; or float lanes, where the renders agree with the double path at 80 dB
 // or more and the BRDF-space relative RMS of the difference is at most 1e-4 (the float budget,
 // docs/shading.md). Float needs AVX2; elsewhere it is the double path. pdf_batch and the draws
-// are double either way; eval_batch's pdf in float mode comes from the float angles.
+// are double either way; eval_batch's pdf (so sample_batch's pdf where it asks for weights) is
+// computed in the float lanes too.
 enum class BatchPrecision { Double, Float };
 
 }  // namespace npf

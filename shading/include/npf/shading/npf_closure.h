@@ -143,7 +143,7 @@ private:
     // eval's vector lookups load two corners' ranks at once; empty where a rank is above 4 and on
     // the texture path.
     std::vector<float> m_cell_major_d, m_cell_major_g, m_cell_major_detail;
-    std::vector<float> m_cell_major_f;  // F likewise (up to 4 channels), for the stored channels
+    std::vector<float> m_cell_major_f;  // F cell by cell (up to 4 channels): the stored channels' at once
     // Each channel's coefficients in eight floats (batch_values.h), for per-lane channels.
     std::vector<float> m_channel_records;
     BatchPrecision m_batch_precision = BatchPrecision::Double;
