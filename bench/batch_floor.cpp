@@ -4,17 +4,22 @@
 //
 // Two measurements on one factor texture, memory path, random pairs over the hemisphere (4 hero
 // wavelengths per pair on a spectral file, R, G, B on an RGB one):
-// 1. Time per pair of the batched angle kernel alone (the angles of every lookup, in double, as
-//    eval_batch computes them), beside eval_batch without and with the pdf, in the same run: the
-//    angles are a part no faster eval can skip.
-// 2. The precision those angles need: every value of the model at pairs whose angles are rounded
-//    to float after the exact double computation (half an ulp: less error than any float angle
-//    kernel could have), against the values at the double angles. Where that moves values by
-//    more than the batched closure's allowed 1e-6 relative, the angle kernel cannot run in float
-//    (8 lanes) and keeps its 4 double lanes.
+// 1. Time per pair of the batched angle kernel alone (the angles of every lookup, as eval_batch
+//    computes them), beside eval_batch without and with the pdf, in the same run, for both of
+//    the batch's precisions (double lanes, and BatchPrecision::Float's float lanes): the angles
+//    are a part no faster eval can skip.
+// 2. The float lanes against the double path at these pairs: the BRDF-space relative RMS of the
+//    difference (npf/core/brdf_comparison.h; the float budget of docs/shading.md allows 1e-4)
+//    and the largest relative difference of one value; and the paired render (the key and rim
+//    lights on the Sphere, no Monte Carlo, 128 x 128) through each precision: its PSNR (the budget
+//    asks 80 dB or more).
 #include "batch_angles.h"
+#include "batched_brdf.h"
 
+#include <npf/core/brdf_comparison.h>
 #include <npf/core/simd_isa.h>
+#include <npf/render/image_metrics.h>
+#include <npf/render/lighting.h>
 #include <npf/shading/npf_batch.h>
 #include <npf/shading/npf_closure.h>
 #include <npf/shading/npf_pair_angles.h>
@@ -71,35 +76,23 @@ double ns_per_pair(double seconds, Body body) {
     }
 }
 
-void report_precision(const npf::NpfModel& m, const Pairs& p) {
-    const npf::AngleNeeds needs = m.angle_needs();
-    const std::size_t channels = m.channels.size();
-    std::vector<double> exact(channels), rounded(channels);
-    std::size_t over = 0, total = 0;
+// values: channel-major batches of kBatch pairs (value k of pair i of batch b at b * count + k * kBatch + i).
+void report_precision(const Pairs& p, std::size_t count, const std::vector<float>& doubles, const std::vector<float>& floats) {
+    npf::BrdfComparison comparison(count);
     double worst = 0.0;
+    std::vector<float> d(count), f(count);
     for (std::size_t i = 0; i < p.vx.size(); ++i) {
-        npf::PairAngles a;
-        npf::pair_angles(p.vx[i], p.vy[i], p.vz[i], p.lx[i], p.ly[i], p.lz[i], needs, a);
-        npf::PairAngles f = a;
-        for (double* x : {&f.cos_i, &f.cos_o, &f.inv_cos_product, &f.theta_h, &f.u_h, &f.phi_h, &f.cos_d, &f.theta_d,
-                          &f.theta_gi, &f.phi_gi, &f.theta_go, &f.phi_go, &f.phi_d})
-            *x = double(float(*x));
-        npf::NpfModel::Lookup at_exact, at_rounded;
-        m.position(a, at_exact);
-        m.position(f, at_rounded);
-        m.values(at_exact, exact.data());
-        m.values(at_rounded, rounded.data());
-        for (std::size_t c = 0; c < channels; ++c) {
-            const double x = std::max(0.0, exact[c]), y = std::max(0.0, rounded[c]);
-            if (!(x > 0.0)) continue;
-            const double relative = std::fabs(y - x) / x;
-            ++total;
-            over += relative > 1e-6;
-            worst = std::max(worst, relative);
+        const std::size_t b = i / kBatch * kBatch, j = i % kBatch;
+        for (std::size_t k = 0; k < count; ++k) {
+            d[k] = doubles[b * count + k * kBatch + j], f[k] = floats[b * count + k * kBatch + j];
+            if (d[k] > 0.f) worst = std::max(worst, std::fabs(double(f[k]) - double(d[k])) / double(d[k]));
         }
+        comparison.add({p.vx[i], p.vy[i], p.vz[i]}, {p.lx[i], p.ly[i], p.lz[i]}, f.data(), d.data());
     }
-    std::printf("angles rounded to float: %zu of %zu values (%.2f %%) move by more than 1e-6 relative, the worst by %.3g\n",
-                over, total, 100.0 * double(over) / double(std::max<std::size_t>(total, 1)), worst);
+    const npf::BrdfComparisonResult r = comparison.result();
+    std::printf("float lanes against double: BRDF-space relative RMS %.3g at %zu pairs within 80 deg (budget 1e-4); "
+                "largest relative difference of one value %.3g\n",
+                r.relative_rms, r.used, worst);
 }
 
 }  // namespace
@@ -113,15 +106,18 @@ int main(int argc, char** argv) try {
     for (int i = 2; i + 1 < argc; i += 2)
         if (std::strcmp(argv[i], "--seconds") == 0) seconds = std::atof(argv[i + 1]);
     const npf::NpfClosure closure(argv[1], npf::NpfClosure::Path::Memory);
+    npf::NpfClosure float_closure(argv[1], npf::NpfClosure::Path::Memory);
+    float_closure.set_batch_precision(npf::BatchPrecision::Float);
     const npf::NpfModel& m = closure.model();
     const bool rgb = m.channels.is_rgb();
     const float nm_lo = rgb ? 0.f : m.channels.wavelengths().front(), nm_hi = rgb ? 0.f : m.channels.wavelengths().back();
     const Pairs p = random_pairs(kBatch * kBatches, nm_lo, nm_hi);
     const npf::AngleNeeds needs = m.angle_needs();
-    std::vector<float> values(kBatch * 4), pdf(kBatch);
+    std::vector<float> values(kBatch * std::max<std::size_t>(m.channels.size(), 4)), pdf(kBatch);
     volatile double sink = 0.0;
 
     npf::batch_detail::BlockAngles angles;
+    npf::batch_detail::BlockAnglesOf<float> float_angles;
     const bool avx2 = npf::simd_isa() == npf::SimdIsa::Avx2;  // the kernel eval_batch runs
     const double angles_ns = ns_per_pair(seconds, [&] {
         for (std::size_t b = 0; b < p.vx.size(); b += npf::batch_detail::kBlock) {
@@ -135,24 +131,54 @@ int main(int argc, char** argv) try {
             sink = sink + angles.theta_d[3];
         }
     });
-    auto eval = [&](bool with_pdf) {
+    const double float_angles_ns = ns_per_pair(seconds, [&] {
+        for (std::size_t b = 0; b < p.vx.size(); b += npf::batch_detail::kBlock) {
+            const float* view[3] = {p.vx.data() + b, p.vy.data() + b, p.vz.data() + b};
+            const float* light[3] = {p.lx.data() + b, p.ly.data() + b, p.lz.data() + b};
+            npf::batch_detail::angles_float_avx2(npf::batch_detail::kBlock, view, light, needs, float_angles);
+            sink = sink + float_angles.theta_d[3];
+        }
+    });
+    auto eval = [&](const npf::NpfClosure& c, bool with_pdf) {
         return ns_per_pair(seconds, [&] {
             for (std::size_t b = 0; b < p.vx.size(); b += kBatch) {
                 const npf::DirectionArrays view{p.vx.data() + b, p.vy.data() + b, p.vz.data() + b};
                 const npf::DirectionArrays light{p.lx.data() + b, p.ly.data() + b, p.lz.data() + b};
                 const npf::BatchWavelengths wl =
                     rgb ? npf::BatchWavelengths::stored() : npf::BatchWavelengths::each_pair(p.hero.data() + 4 * b, 4);
-                closure.eval_batch(kBatch, view, light, wl, values.data(), with_pdf ? pdf.data() : nullptr);
+                c.eval_batch(kBatch, view, light, wl, values.data(), with_pdf ? pdf.data() : nullptr);
                 sink = sink + values[7];
             }
         });
     };
-    const double values_ns = eval(false), with_pdf_ns = eval(true);
+    const double values_ns = eval(closure, false), with_pdf_ns = eval(closure, true);
+    const double float_values_ns = eval(float_closure, false), float_with_pdf_ns = eval(float_closure, true);
     std::printf("%s: %s, %s, angle needs: D azimuth %d, G azimuth %d, detail %d\n", argv[1], rgb ? "RGB" : "spectral", npf::simd_isa_name(npf::simd_isa()),
                 needs.d_azimuth, needs.g_azimuth, needs.detail);
     std::printf("per pair, one thread, same run: angle kernel alone %.1f ns; eval_batch values %.1f ns; with pdf %.1f ns\n",
                 angles_ns, values_ns, with_pdf_ns);
-    report_precision(m, p);
+    std::printf("float lanes:                    angle kernel alone %.1f ns; eval_batch values %.1f ns; with pdf %.1f ns%s\n",
+                float_angles_ns, float_values_ns, float_with_pdf_ns, avx2 ? "" : " (no AVX2: the double path)");
+    // Every pair's values at both precisions.
+    const std::size_t count = rgb ? m.channels.size() : 4;
+    std::vector<float> doubles(p.vx.size() * count), floats(p.vx.size() * count);
+    for (std::size_t b = 0; b < p.vx.size(); b += kBatch) {
+        const npf::DirectionArrays view{p.vx.data() + b, p.vy.data() + b, p.vz.data() + b};
+        const npf::DirectionArrays light{p.lx.data() + b, p.ly.data() + b, p.lz.data() + b};
+        const npf::BatchWavelengths wl =
+            rgb ? npf::BatchWavelengths::stored() : npf::BatchWavelengths::each_pair(p.hero.data() + 4 * b, 4);
+        closure.eval_batch(kBatch, view, light, wl, doubles.data() + b * count, nullptr);
+        float_closure.eval_batch(kBatch, view, light, wl, floats.data() + b * count, nullptr);
+    }
+    report_precision(p, count, doubles, floats);
+    npf::render::RenderOptions options;
+    options.width = options.height = 128;
+    const auto lights = npf::render::directional_lights();
+    using npf::testing::BatchedBrdf;
+    const auto d = npf::render::render_directional(BatchedBrdf(argv[1], npf::BatchPrecision::Double), lights, options);
+    const auto f = npf::render::render_directional(BatchedBrdf(argv[1], npf::BatchPrecision::Float), lights, options);
+    std::printf("paired render (directional, 128 x 128) through the float lanes against the double path: %.1f dB (budget 80)\n",
+                npf::render::compare_images(d.image, f.image).psnr);
     return 0;
 } catch (const std::exception& e) {
     std::fprintf(stderr, "npf_bench_batch_floor: %s\n", e.what());

@@ -30,7 +30,7 @@ BASELINE = os.path.join(HERE, "baseline.json")
 MATERIAL = os.path.join(ROOT, "data", "materials", "ilm_l3_37_metallic_rgb.bsdf")
 SPECTRAL_RECIPE = os.path.join(ROOT, "configs", "materials", "brushed_copper.yaml")
 # The npf bench fields guarded, each as a ratio to eval_raw_ns of the same run.
-SHADING = ["eval_memory_ns", "eval_batch_ns", "eval_texture_ns", "sample_ns", "sample_batch_ns",
+SHADING = ["eval_memory_ns", "eval_batch_ns", "eval_batch_float_ns", "eval_texture_ns", "sample_ns", "sample_batch_ns",
            "pdf_ns", "pdf_batch_ns"]
 MIN_NOISE = 0.05
 

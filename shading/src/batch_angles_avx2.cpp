@@ -7,12 +7,16 @@
 
 #if defined(__AVX2__)
 #include "simd_double4.h"
+#include "simd_float8.h"
+
+#include <limits>
 
 namespace npf::batch_detail {
 
 namespace {
 
 using simd::Double4;
+using simd::Float8;
 
 template <bool DAzimuth, bool GAzimuth, bool Detail>
 void angles(std::size_t n, const float* const view[3], const float* const light[3], BlockAngles& out) {
@@ -25,6 +29,19 @@ void angles(std::size_t n, const float* const view[3], const float* const light[
         store_angles(out, i, a, [](double* p, Double4 v) { simd::store4(p, v); });
     }
     if (i < n) angles_portable(n - i, view, light, needs, out, i);
+}
+
+template <bool DAzimuth, bool GAzimuth, bool Detail>
+std::size_t angles_float(std::size_t n, const float* const view[3], const float* const light[3], BlockAnglesOf<float>& out) {
+    constexpr AngleNeeds needs{DAzimuth, GAzimuth, Detail};
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        PairAnglesOf<Float8> a;
+        pair_angles_of<Float8>(simd::load8(view[0] + i), simd::load8(view[1] + i), simd::load8(view[2] + i),
+                               simd::load8(light[0] + i), simd::load8(light[1] + i), simd::load8(light[2] + i), needs, a);
+        store_angles(out, i, a, [](float* p, Float8 v) { simd::store8(p, v); });
+    }
+    return i;
 }
 
 template <bool DAzimuth>
@@ -65,6 +82,39 @@ void half_vectors_avx2(std::size_t n, const float* const view[3], const float* c
     return half_vectors<false>(n, view, light, out);
 }
 
+std::size_t domains_avx2(std::size_t n, const float* const view[3], const float* const light[3], std::uint8_t* valid) {
+    // Both z above 0 and every component finite (|x| <= the largest float: false for NaN).
+    const __m256 largest = _mm256_set1_ps(std::numeric_limits<float>::max()), zero = _mm256_setzero_ps();
+    const __m256 sign = _mm256_set1_ps(-0.f);
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        __m256 ok = _mm256_and_ps(_mm256_cmp_ps(_mm256_loadu_ps(view[2] + i), zero, _CMP_GT_OQ),
+                                  _mm256_cmp_ps(_mm256_loadu_ps(light[2] + i), zero, _CMP_GT_OQ));
+        for (const float* const* d : {view, light}) {
+            for (int c = 0; c < 3; ++c)
+                ok = _mm256_and_ps(ok, _mm256_cmp_ps(_mm256_andnot_ps(sign, _mm256_loadu_ps(d[c] + i)), largest, _CMP_LE_OQ));
+        }
+        const int bits = _mm256_movemask_ps(ok);
+        for (int k = 0; k < 8; ++k) valid[i + std::size_t(k)] = std::uint8_t((bits >> k) & 1);
+    }
+    return i;
+}
+
+std::size_t angles_float_avx2(std::size_t n, const float* const view[3], const float* const light[3], AngleNeeds needs,
+                              BlockAnglesOf<float>& out) {
+    const int k = (needs.d_azimuth ? 4 : 0) + (needs.g_azimuth ? 2 : 0) + (needs.detail ? 1 : 0);
+    switch (k) {
+    case 0: return angles_float<false, false, false>(n, view, light, out);
+    case 1: return angles_float<false, false, true>(n, view, light, out);
+    case 2: return angles_float<false, true, false>(n, view, light, out);
+    case 3: return angles_float<false, true, true>(n, view, light, out);
+    case 4: return angles_float<true, false, false>(n, view, light, out);
+    case 5: return angles_float<true, false, true>(n, view, light, out);
+    case 6: return angles_float<true, true, false>(n, view, light, out);
+    default: return angles_float<true, true, true>(n, view, light, out);
+    }
+}
+
 }  // namespace npf::batch_detail
 
 #else
@@ -79,6 +129,12 @@ void half_vectors_avx2(std::size_t n, const float* const view[3], const float* c
                        BlockHalfVectors& out) {
     half_vectors_portable(n, view, light, d_azimuth, out);
 }
+
+std::size_t angles_float_avx2(std::size_t, const float* const[3], const float* const[3], AngleNeeds, BlockAnglesOf<float>&) {
+    return 0;  // no float lanes in this build: the caller takes the double path
+}
+
+std::size_t domains_avx2(std::size_t, const float* const[3], const float* const[3], std::uint8_t*) { return 0; }
 
 }  // namespace npf::batch_detail
 

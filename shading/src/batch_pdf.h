@@ -16,5 +16,9 @@ namespace npf::batch_detail {
 // only one (the caller's scalar code covers those).
 std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const double* theta_h,
                       const double* u_h, const double* phi_h, const double* cos_d, const double* cos_light, float* pdf);
+// The same in float lanes, eight pairs at a time, from float angles (BatchPrecision::Float): the
+// same steps, within float's rounding of the double pdf ([0, n - n % 8)).
+std::size_t pdfs_float_avx2(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const float* theta_h,
+                            const float* u_h, const float* phi_h, const float* cos_d, const float* cos_light, float* pdf);
 
 }  // namespace npf::batch_detail

@@ -1,17 +1,19 @@
 // The batched closure's pdf for AVX2 (batch_pdf.h). Compiled with -mavx2 and without FMA
 // (CMakeLists.txt), called only where the CPU has AVX2 (npf_batch.cpp). Each step is the scalar
 // code's IEEE operation on four lanes, so the pdfs equal NpfClosure::pdf_at's to the bit
-// (tests/test_batch_closure.cpp).
+// (tests/test_batch_closure.cpp); the float lanes' version takes the same steps in float.
 #include "batch_pdf.h"
 
 #if defined(__AVX2__)
 #include "simd_double4.h"
+#include "simd_float8.h"
 
 namespace npf::batch_detail {
 
 namespace {
 
 using simd::Double4;
+using simd::Float8;
 using simd::Mask4;
 
 Mask4 operator&&(Mask4 a, Mask4 b) { return {_mm256_and_pd(a.m, b.m)}; }
@@ -56,11 +58,45 @@ std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probabili
     return groups;
 }
 
+std::size_t pdfs_float_avx2(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const float* theta_h,
+                            const float* u_h, const float* phi_h, const float* cos_d, const float* cos_light, float* pdf) {
+    if (sampler.empty() || !(diffuse_probability < 1.0)) return 0;
+    const std::vector<AliasTable::Bin>& bins = sampler.cells().bins();
+    const double* inv_solid_angle = sampler.inv_solid_angle().data();
+    const int rows = sampler.theta_cells(), columns = sampler.phi_cells();
+    const Float8 pd(diffuse_probability), spec_share(1.0 - diffuse_probability);
+    const __m256i last_row = _mm256_set1_epi32(rows - 1), last_column = _mm256_set1_epi32(columns - 1), zero = _mm256_setzero_si256();
+    const std::size_t groups = n - n % 8;
+    for (std::size_t i = 0; i < groups; i += 8) {
+        const Float8 theta = simd::load8(theta_h + i), u = simd::load8(u_h + i), phi = simd::load8(phi_h + i);
+        const Float8 cd = simd::load8(cos_d + i);
+        const __m256 inside = _mm256_and_ps((theta < Float8(kHalfPiD)).m, _mm256_cmp_ps(phi.v, _mm256_setzero_ps(), _CMP_GE_OQ));
+        const __m256i k_cell = _mm256_max_epi32(_mm256_min_epi32(_mm256_cvttps_epi32((u * Float8(double(rows))).v), last_row), zero);
+        const __m256i j_cell = _mm256_max_epi32(
+            _mm256_min_epi32(_mm256_cvttps_epi32((phi / Float8(kTwoPiD) * Float8(double(columns))).v), last_column), zero);
+        alignas(32) std::int32_t k[8], j[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(k), k_cell);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(j), j_cell);
+        alignas(32) float mass[8];
+        for (int l = 0; l < 8; ++l)
+            mass[l] = float(double(bins[std::size_t(k[l]) * std::size_t(columns) + std::size_t(j[l])].pmf) * inv_solid_angle[k[l]]);
+        const Float8 sampler_pdf = Float8(_mm256_and_ps(inside, simd::load8(mass).v));
+        Float8 p = pd * simd::load8(cos_light + i) * Float8(1.0 / kPiD);
+        p = simd::select(cd > Float8(0.0), p + spec_share * sampler_pdf / (Float8(4.0) * cd), p);
+        simd::store8(pdf + i, simd::finite_float_of(p));
+    }
+    return groups;
+}
+
 }  // namespace npf::batch_detail
 #else
 namespace npf::batch_detail {
 std::size_t pdfs_avx2(const HalfVectorSampler&, double, std::size_t, const double*, const double*, const double*,
                       const double*, const double*, float*) {
+    return 0;
+}
+std::size_t pdfs_float_avx2(const HalfVectorSampler&, double, std::size_t, const float*, const float*, const float*,
+                            const float*, const float*, float*) {
     return 0;
 }
 }  // namespace npf::batch_detail

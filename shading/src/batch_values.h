@@ -27,6 +27,15 @@ inline bool vector_values_apply(const NpfModel& m) {
     return m.D.rank <= kVectorRank && m.G.rank <= kVectorRank && m.detail.rank <= kVectorRank;
 }
 
+// Float lanes compute cell indices in float: exact below 2^24, which every table's size is far
+// below; a model with a larger table takes the double path.
+inline bool float_values_apply(const NpfModel& m) {
+    constexpr std::size_t kExact = std::size_t(1) << 23;  // with room for the paired copies' padding
+    return vector_values_apply(m) && m.D.cells < kExact && m.G.cells < kExact && m.detail.cells < kExact &&
+           m.F.size() < kExact && m.D.weights.size() < kExact && m.G.weights.size() < kExact &&
+           m.detail.weights.size() < kExact;
+}
+
 // Which values a block writes: every stored channel (`stored`, value k = channel k), or the
 // wavelengths of `wavelengths` located on the model's grid by `locator`.
 struct ValueRequestOfBlock {
@@ -36,16 +45,31 @@ struct ValueRequestOfBlock {
     std::size_t count = 0;  // values per pair
 };
 
-// A basis of rank up to 4 cell by cell, four floats per cell ([cell][4], ranks beyond its own 0):
-// what values_avx2 loads a corner's ranks from at once. Empty for a rank above 4.
-std::vector<float> cell_major_of(const SpectralBasis& s);
+// A table of ranks up to 4 cell by cell, four floats per cell ([cell][4], ranks beyond its own
+// 0): what values_avx2 loads a cell's ranks from at once. Empty for more than 4 tables.
+std::vector<float> cell_major_of(const float* tables, int count, std::size_t cells);
+// A basis of rank up to 4 over a rows x cols table, cell by cell as above and padded so that the
+// two cells an interpolation blends along one axis lie side by side (one load of eight floats per
+// lane): pair_rows (a table of one column), one row more, a copy of the last (which the clamped
+// and extrapolated row rules pair the last row with, or with the next); else each row has a
+// column more, a copy of its first (the periodic column rule's neighbour of the last). Empty for
+// a rank above 4.
+std::vector<float> paired_cells_of(const SpectralBasis& s, int rows, int cols, bool pair_rows);
 
-// The cell-major copies of a model's bases (null where absent: values_avx2 then gathers from
-// the rank-major tables, one lane and rank at a time).
+// Each channel's coefficients in one record of eight floats: rho_d, rho_s, D's weights, G's
+// weights, the detail layer's weights, then 0 (channel c at [c * 8]), so that a lane's channel
+// comes with one load. Empty where they do not fit in eight.
+std::vector<float> channel_records_of(const NpfModel& m);
+
+// The paired copies of a model's bases (null where absent: values_avx2 then gathers from the
+// rank-major tables, one lane and rank at a time), F cell by cell, and the channel records (null
+// where absent: per-lane channels gather coefficient by coefficient).
 struct CellMajorBases {
     const float* d = nullptr;
     const float* g = nullptr;
     const float* detail = nullptr;
+    const float* f = nullptr;  // F of up to four channels, cell by cell (the stored channels' F at once)
+    const float* channel_records = nullptr;
 };
 
 // Pairs [0, groups * 4) of the block whose angles are `angles` and whose first pair is pair
@@ -55,5 +79,10 @@ struct CellMajorBases {
 std::size_t values_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAngles& angles, std::size_t count,
                         const std::uint8_t* valid, const ValueRequestOfBlock& request, std::size_t first, float* values,
                         std::size_t n);
+// The same in float lanes, eight pairs per step, from float angles (BatchPrecision::Float): within
+// the float budget of docs/shading.md, not to the bit. Returns a multiple of 8.
+std::size_t values_float_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<float>& angles,
+                              std::size_t count, const std::uint8_t* valid, const ValueRequestOfBlock& request,
+                              std::size_t first, float* values, std::size_t n);
 
 }  // namespace npf::batch_detail

@@ -1,7 +1,7 @@
 // The batched closure (npf_batch.h): blocks of kBlock pairs; the angles of a block by a vector
 // kernel (batch_angles.h), then the table lookups and values four pairs at a time by vector code
-// (batch_values.h, AVX2), or pair by pair with the scalar closure's code; sample's draws likewise
-// (batch_draw.h).
+// (batch_values.h, AVX2), or eight at a time in float lanes (BatchPrecision::Float), or pair by
+// pair with the scalar closure's code; sample's draws likewise (batch_draw.h).
 #include <npf/shading/npf_batch.h>
 #include <npf/shading/npf_closure.h>
 
@@ -40,11 +40,39 @@ struct BlockPointers {
 
 namespace batch_detail {
 
-std::vector<float> cell_major_of(const SpectralBasis& s) {
-    if (s.rank < 1 || s.rank > 4) return {};
-    std::vector<float> out(s.cells * 4, 0.f);
-    for (int r = 0; r < s.rank; ++r)
-        for (std::size_t c = 0; c < s.cells; ++c) out[c * 4 + std::size_t(r)] = s.basis[std::size_t(r) * s.cells + c];
+std::vector<float> cell_major_of(const float* tables, int count, std::size_t cells) {
+    if (count < 1 || count > 4) return {};
+    std::vector<float> out(cells * 4, 0.f);
+    for (int r = 0; r < count; ++r)
+        for (std::size_t c = 0; c < cells; ++c) out[c * 4 + std::size_t(r)] = tables[std::size_t(r) * cells + c];
+    return out;
+}
+
+std::vector<float> paired_cells_of(const SpectralBasis& s, int rows, int cols, bool pair_rows) {
+    if (s.rank < 1 || s.rank > 4 || rows < 1 || cols < 1) return {};
+    const std::size_t r_count = std::size_t(rows) + (pair_rows ? 1 : 0), c_count = std::size_t(cols) + (pair_rows ? 0 : 1);
+    std::vector<float> out(r_count * c_count * 4, 0.f);
+    for (std::size_t r = 0; r < r_count; ++r) {
+        for (std::size_t c = 0; c < c_count; ++c) {
+            const std::size_t from = std::min(r, std::size_t(rows) - 1) * std::size_t(cols) + c % std::size_t(cols);
+            for (int k = 0; k < s.rank; ++k) out[(r * c_count + c) * 4 + std::size_t(k)] = s.basis[std::size_t(k) * s.cells + from];
+        }
+    }
+    return out;
+}
+
+std::vector<float> channel_records_of(const NpfModel& m) {
+    const std::size_t rd = std::size_t(m.D.rank), rg = std::size_t(m.G.rank), rr = std::size_t(m.detail.rank);
+    if (2 + rd + rg + rr > 8) return {};
+    const std::size_t channels = m.channel_count();
+    std::vector<float> out(channels * 8, 0.f);
+    for (std::size_t c = 0; c < channels; ++c) {
+        float* r = out.data() + c * 8;
+        r[0] = m.rho_d[c], r[1] = m.rho_s[c];
+        for (std::size_t k = 0; k < rd; ++k) r[2 + k] = m.D.weights[c * rd + k];
+        for (std::size_t k = 0; k < rg; ++k) r[2 + rd + k] = m.G.weights[c * rg + k];
+        for (std::size_t k = 0; k < rr; ++k) r[2 + rd + rg + k] = m.detail.weights[c * rr + k];
+    }
     return out;
 }
 
@@ -77,30 +105,48 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
     }
     const bool avx2 = simd_isa() == SimdIsa::Avx2;
     const bool vector_values = avx2 && batch_detail::vector_values_apply(m_model);
+    const bool float_lanes =
+        vector_values && m_batch_precision == BatchPrecision::Float && batch_detail::float_values_apply(m_model);
     const batch_detail::ValueRequestOfBlock block_request{stored, wavelengths, &m_wavelengths, count};
     auto data_or_null = [](const std::vector<float>& v) { return v.empty() ? nullptr : v.data(); };
     const batch_detail::CellMajorBases cell_major{data_or_null(m_cell_major_d), data_or_null(m_cell_major_g),
-                                                  data_or_null(m_cell_major_detail)};
+                                                  data_or_null(m_cell_major_detail), data_or_null(m_cell_major_f),
+                                                  data_or_null(m_channel_records)};
     const AngleNeeds needs = m_model.angle_needs();
     batch_detail::BlockAngles angles;
+    batch_detail::BlockAnglesOf<float> float_angles;
     std::uint8_t valid[kBlock];
     NpfModel::Lookup at;
     for (std::size_t b = 0; b < n; b += kBlock) {
         const std::size_t m = std::min(kBlock, n - b);
         const BlockPointers p(view, light, b);
-        if (avx2) {
-            batch_detail::angles_avx2(m, p.view, p.light, needs, angles);
+        for (std::size_t j = avx2 ? batch_detail::domains_avx2(m, p.view, p.light, valid) : 0; j < m; ++j)
+            valid[j] = in_domain(view, light, b + j);
+        std::size_t done = 0, pdf_done = 0;
+        if (float_lanes) {
+            // Eight pairs at a time in float; the rest of the block (fewer than eight) in double.
+            const std::size_t angled = batch_detail::angles_float_avx2(m, p.view, p.light, needs, float_angles);
+            done = batch_detail::values_float_avx2(m_model, cell_major, float_angles, angled, valid, block_request, b, values, n);
+            if (done < m) batch_detail::angles_portable(m - done, p.view, p.light, needs, angles, done);
+            if (pdf) {
+                pdf_done = batch_detail::pdfs_float_avx2(m_sampler, m_diffuse_probability, done, float_angles.theta_h,
+                                                         float_angles.u_h, float_angles.phi_h, float_angles.cos_d,
+                                                         float_angles.cos_o, pdf + b);
+            }
         } else {
-            batch_detail::angles_portable(m, p.view, p.light, needs, angles);
+            if (avx2) {
+                batch_detail::angles_avx2(m, p.view, p.light, needs, angles);
+            } else {
+                batch_detail::angles_portable(m, p.view, p.light, needs, angles);
+            }
+            // The values of whole groups of four pairs by vector code, the rest pair by pair.
+            if (vector_values) done = batch_detail::values_avx2(m_model, cell_major, angles, m, valid, block_request, b, values, n);
+            if (pdf && avx2) {
+                pdf_done = batch_detail::pdfs_avx2(m_sampler, m_diffuse_probability, m, angles.theta_h, angles.u_h, angles.phi_h,
+                                                   angles.cos_d, angles.cos_o, pdf + b);
+            }
         }
-        for (std::size_t j = 0; j < m; ++j) valid[j] = in_domain(view, light, b + j);
-        // The values of whole groups of four pairs by vector code, the rest pair by pair.
-        const std::size_t done =
-            vector_values ? batch_detail::values_avx2(m_model, cell_major, angles, m, valid, block_request, b, values, n) : 0;
-        const std::size_t pdf_done = pdf && avx2 ? batch_detail::pdfs_avx2(m_sampler, m_diffuse_probability, m, angles.theta_h,
-                                                                           angles.u_h, angles.phi_h, angles.cos_d,
-                                                                           angles.cos_o, pdf + b)
-                                                 : 0;
+        const std::size_t float_done = float_lanes ? done : 0;  // pairs whose angles are float_angles'
         for (std::size_t j = 0; j < m; ++j) {
             const std::size_t i = b + j;
             if (!valid[j]) {
@@ -111,7 +157,10 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
                 m_model.position(angles.at(j), at);
                 write_values(at, at.cos_o, request_of(i), values + i, n);
             }
-            if (pdf && j >= pdf_done) pdf[i] = pdf_at(angles.theta_h[j], angles.u_h[j], angles.phi_h[j], angles.cos_d[j], angles.cos_o[j]);
+            if (!pdf || j < pdf_done) continue;
+            const batch_detail::BlockAnglesOf<float>& f = float_angles;
+            pdf[i] = j < float_done ? pdf_at(f.theta_h[j], f.u_h[j], f.phi_h[j], f.cos_d[j], f.cos_o[j])
+                                    : pdf_at(angles.theta_h[j], angles.u_h[j], angles.phi_h[j], angles.cos_d[j], angles.cos_o[j]);
         }
     }
 }

@@ -112,9 +112,12 @@ void NpfClosure::finish_construction() {
     m_value_bound = m_model.value_bound();
     if (!m_model.channels.is_rgb()) m_wavelengths = WavelengthLocator(m_model.channels.wavelengths());
     if (!m_texture) {
-        m_cell_major_d = batch_detail::cell_major_of(m_model.D);
-        m_cell_major_g = batch_detail::cell_major_of(m_model.G);
-        m_cell_major_detail = batch_detail::cell_major_of(m_model.detail);
+        m_cell_major_d = batch_detail::paired_cells_of(m_model.D, m_model.d_theta, m_model.d_phi, m_model.d_phi == 1);
+        m_cell_major_g = batch_detail::paired_cells_of(m_model.G, m_model.g_theta, m_model.g_phi, m_model.g_phi == 1);
+        const DetailGrid& grid = m_model.detail_grid;
+        m_cell_major_detail = batch_detail::paired_cells_of(m_model.detail, grid.theta_h * grid.theta_d, grid.phi_d, false);
+        m_cell_major_f = batch_detail::cell_major_of(m_model.F.data(), int(m_model.channel_count()), std::size_t(m_model.f_theta));
+        m_channel_records = batch_detail::channel_records_of(m_model);
     }
     try {
         m_sampler = HalfVectorSampler(HalfVectorSampler::luminance_averaged_ndf(m_model), m_model.d_theta,

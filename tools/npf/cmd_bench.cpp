@@ -49,6 +49,7 @@ const char* kHelp =
     "  pdf_ns                pdf of a given pair\n"
     "  eval_batch_ns         eval_batch over batches of 1024 pairs, memory path, 4 hero wavelengths per pair\n"
     "                        (RGB: R, G, B), per pair (batch_isa: the instruction set it ran with)\n"
+    "  eval_batch_float_ns   the same with BatchPrecision::Float (float lanes, within docs/shading.md's budget)\n"
     "  pdf_batch_ns          pdf_batch over batches of 1024 pairs, per pair\n"
     "  sample_batch_ns       sample_batch (direction and pdf, as sample_ns) over batches of 1024 pairs, per pair\n"
     "  eval_raw_ns           --against: the source file's own evaluation, same wavelengths\n"
@@ -137,6 +138,8 @@ int run_bench(const std::vector<std::string>& args) {
 
     const NpfClosure memory(path, NpfClosure::Path::Memory);
     const NpfClosure texture(path, NpfClosure::Path::Texture);
+    NpfClosure memory_float(path, NpfClosure::Path::Memory);  // the batched eval in float lanes
+    memory_float.set_batch_precision(BatchPrecision::Float);
     std::unique_ptr<Brdf> raw;
     std::vector<ChannelQuery> raw_queries;
     const Channels& channels = memory.channels();
@@ -196,7 +199,7 @@ int run_bench(const std::vector<std::string>& args) {
         }
         return double(batch_pdf[0]);
     };
-    auto batches = [&](bool eval) {
+    auto batches = [&](bool eval, const NpfClosure& closure) {
         return [&, eval] {
             for (int b = 0; b < kPairs; b += kBatch) {
                 const std::size_t o = std::size_t(b);
@@ -205,9 +208,9 @@ int run_bench(const std::vector<std::string>& args) {
                 if (eval) {
                     const BatchWavelengths wl = channels.is_rgb() ? BatchWavelengths::stored()
                                                                   : BatchWavelengths::each_pair(batch_hero.data() + 4 * o, 4);
-                    memory.eval_batch(std::size_t(kBatch), view, light, wl, batch_values.data(), batch_pdf.data());
+                    closure.eval_batch(std::size_t(kBatch), view, light, wl, batch_values.data(), batch_pdf.data());
                 } else {
-                    memory.pdf_batch(std::size_t(kBatch), view, light, batch_pdf.data());
+                    closure.pdf_batch(std::size_t(kBatch), view, light, batch_pdf.data());
                 }
             }
             return double(batch_pdf[0]) + double(batch_values[0]);
@@ -248,8 +251,9 @@ int run_bench(const std::vector<std::string>& args) {
                         for (int i = 0; i < kPairs; ++i) sum += memory.pdf(in.wo[std::size_t(i)], in.wi[std::size_t(i)]);
                         return sum;
                     })});
-    rows.push_back({"eval_batch_ns", "eval_batch (1024 pairs), 4 hero wavelengths", time_calls(seconds, batches(true))});
-    rows.push_back({"pdf_batch_ns", "pdf_batch (1024 pairs)", time_calls(seconds, batches(false))});
+    rows.push_back({"eval_batch_ns", "eval_batch (1024 pairs), 4 hero wavelengths", time_calls(seconds, batches(true, memory))});
+    rows.push_back({"eval_batch_float_ns", "eval_batch, float lanes", time_calls(seconds, batches(true, memory_float))});
+    rows.push_back({"pdf_batch_ns", "pdf_batch (1024 pairs)", time_calls(seconds, batches(false, memory))});
     rows.push_back({"sample_batch_ns", "sample_batch (1024 pairs): direction and pdf", time_calls(seconds, sample_batches)});
     if (raw) {
         rows.push_back({"eval_raw_ns", "raw source evaluation, same wavelengths", time_calls(seconds, [&] {
@@ -292,7 +296,8 @@ int run_bench(const std::vector<std::string>& args) {
         return nullptr;
     };
     const Timing* raw_t = find("eval_raw_ns");
-    const double speedup = raw_t ? raw_t->ns_per_call / find("eval_memory_ns")->ns_per_call : 0.0;
+    auto speedup_of = [&](const char* key) { return raw_t ? raw_t->ns_per_call / find(key)->ns_per_call : 0.0; };
+    const double speedup = speedup_of("eval_memory_ns");
     const NpfModel& m = memory.model();
 
     if (json) {
@@ -302,6 +307,9 @@ int run_bench(const std::vector<std::string>& args) {
         for (const Row& r : rows) out += std::string(", \"") + r.key + "\": " + json_number(r.t.ns_per_call, kJsonDigits);
         if (!raw) out += ", \"eval_raw_ns\": null";
         out += ", \"speedup_memory_vs_raw\": " + (raw ? json_number(speedup, kJsonDigits) : std::string("null"));
+        out += ", \"speedup_batch_vs_raw\": " + (raw ? json_number(speedup_of("eval_batch_ns"), kJsonDigits) : std::string("null"));
+        out += ", \"speedup_batch_float_vs_raw\": " +
+               (raw ? json_number(speedup_of("eval_batch_float_ns"), kJsonDigits) : std::string("null"));
         out += std::string(", \"batch_isa\": \"") + simd_isa_name(simd_isa()) + "\"";
         out += ", \"threads\": " + std::to_string(threads) + ", \"eval_memory_calls_per_s_threaded\": " +
                json_number(throughput, kJsonDigits) + "}\n";
@@ -317,7 +325,10 @@ int run_bench(const std::vector<std::string>& args) {
                     r.t.seconds);
     }
     std::printf("  batched calls ran with %s\n", simd_isa_name(simd_isa()));
-    if (raw) std::printf("  memory eval is %.1f times faster than the raw evaluation\n", speedup);
+    if (raw) {
+        std::printf("  memory eval is %.1f times faster than the raw evaluation; eval_batch %.1f times, in float lanes %.1f times\n",
+                    speedup, speedup_of("eval_batch_ns"), speedup_of("eval_batch_float_ns"));
+    }
     std::printf("  memory eval on %d threads: %.3g calls/s (%.1f ns/call per thread)\n", threads, throughput,
                 1e9 * threads / throughput);
     return 0;

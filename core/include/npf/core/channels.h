@@ -92,6 +92,20 @@ public:
         blend_wavelengths_at(m_grid.data(), std::min(i, n - 2), lambda, i0, i1, t);
     }
 
+    // The tables locate() reads, for vector code that locates several wavelengths at once with the
+    // same steps (the batched closure's float lanes). start is null where locate() searches.
+    struct Tables {
+        const float* grid = nullptr;
+        std::size_t n = 0;
+        const std::uint32_t* start = nullptr;
+        std::size_t buckets = 0;
+        float lo = 0.f, hi = 0.f, buckets_per_nm = 0.f;
+    };
+    Tables tables() const {
+        return {m_grid.data(), m_grid.size(), m_start.empty() ? nullptr : m_start.data(), m_start.size(), m_lo, m_hi,
+                m_buckets_per_nm};
+    }
+
 private:
     std::vector<float> m_grid;
     std::vector<std::uint32_t> m_start;  // per bucket: the last grid index at or below its start

@@ -2,9 +2,10 @@
 // and SIMD renderers and numpy callers hand them over. Directions come as structure-of-arrays;
 // the angle work of a block of pairs and, on the memory path, its table lookups and values run as
 // vector code four pairs at a time (AVX2 where the CPU has it; else the scalar code pair by pair).
-// Results equal the scalar closure's to the bit on either instruction set (the same arithmetic,
-// no fused multiply-add; the choice is npf/core/simd_isa.h's), which tests/test_batch_closure.cpp
-// checks.
+// With BatchPrecision::Double, results equal the scalar closure's to the bit on either instruction
+// set (the same arithmetic, no fused multiply-add; the choice is npf/core/simd_isa.h's), which
+// tests/test_batch_closure.cpp checks. BatchPrecision::Float evaluates eight pairs at a time in
+// float lanes within a stated error budget (docs/shading.md; tests/test_batch_float.cpp).
 #pragma once
 
 #include <cstddef>
@@ -30,5 +31,13 @@ struct BatchWavelengths {
     static BatchWavelengths shared(const float* nm, int count) { return {nm, count, false}; }
     static BatchWavelengths each_pair(const float* nm, int count) { return {nm, count, true}; }
 };
+
+// The arithmetic of the batched eval's values (and of sample_batch's weights): double lanes, the
+// scalar closure's bits; or float lanes, where the renders agree with the double path at 80 dB
+// or more and the BRDF-space relative RMS of the difference is at most 1e-4 (the float budget,
+// docs/shading.md). Float needs AVX2; elsewhere it is the double path. pdf_batch and the draws
+// are double either way; eval_batch's pdf (so sample_batch's pdf where it asks for weights) is
+// computed in the float lanes too.
+enum class BatchPrecision { Double, Float };
 
 }  // namespace npf

@@ -109,6 +109,11 @@ public:
     void sample_batch(std::size_t n, const DirectionArrays& view, const float* u1, const float* u2,
                       BatchWavelengths wavelengths, float* const light_out[3], float* pdf, float* weights) const;
 
+    // The batched eval's arithmetic (npf_batch.h's BatchPrecision); set before shading (not
+    // synchronised with batched calls on other threads). The scalar calls are double always.
+    void set_batch_precision(BatchPrecision p) { m_batch_precision = p; }
+    BatchPrecision batch_precision() const { return m_batch_precision; }
+
     // Probability of choosing the diffuse (cosine) strategy rather than the half-vector one.
     double diffuse_probability() const { return m_diffuse_probability; }
 
@@ -134,9 +139,14 @@ private:
     WavelengthLocator m_wavelengths;  // the stored grid (spectral materials)
     double m_diffuse_probability = 0.0;
     // D's, G's and the detail layer's bases again, cell by cell (four floats per cell: ranks up to
-    // 4), so that the batched eval's vector lookups load a corner's ranks at once; empty where a
-    // rank is above 4 and on the texture path.
+    // 4) with neighbours side by side (batch_values.h's paired_cells_of), so that the batched
+    // eval's vector lookups load two corners' ranks at once; empty where a rank is above 4 and on
+    // the texture path.
     std::vector<float> m_cell_major_d, m_cell_major_g, m_cell_major_detail;
+    std::vector<float> m_cell_major_f;  // F cell by cell (up to 4 channels): the stored channels' at once
+    // Each channel's coefficients in eight floats (batch_values.h), for per-lane channels.
+    std::vector<float> m_channel_records;
+    BatchPrecision m_batch_precision = BatchPrecision::Double;
 };
 
 }  // namespace npf
