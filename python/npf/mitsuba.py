@@ -103,6 +103,21 @@ def _resolve(filename):
     return resolved
 
 
+def _opened(props, spectral, needs):
+    """The plugin's material: `filename` through the scene's resolver, opened by npf's reader and
+    checked against the variant. Returns (path, material, Mitsuba flags)."""
+    import mitsuba as mi
+    if not props.has_property("filename"):
+        raise _npf._error("npf plugin", "needs a 'filename' ({})".format(needs))
+    filename = _resolve(str(props["filename"]))
+    material = _npf.open(filename)
+    _check_variant(material, filename, spectral)
+    flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+    if not material.info["isotropic"]:
+        flags = flags | mi.BSDFFlags.Anisotropic
+    return filename, material, flags
+
+
 def _check_variant(material, filename, spectral):
     import mitsuba as mi
     if material.is_rgb and spectral:
@@ -123,17 +138,10 @@ def register(name="npf"):
     class NpfBsdf(mi.BSDF):
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
-            if not props.has_property("filename"):
-                raise _npf._error("npf plugin", "needs a 'filename' (an NPF factor texture: npf convert writes one)")
-            self.filename = _resolve(str(props["filename"]))
-            self.material = _npf.open(self.filename)
-            _check_variant(self.material, self.filename, spectral)
+            self.filename, self.material, flags = _opened(props, spectral, "an NPF factor texture: npf convert writes one")
             if not self.material.info["batched"]:
                 raise _npf._error(self.filename, "is not an NPF factor texture (npf convert makes one; npf.mitsuba.register_numpy() shades any source npf opens)")
             self.model = TracedModel(self.material)
-            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
-            if not self.material.info["isotropic"]:
-                flags = flags | mi.BSDFFlags.Anisotropic
             self.m_components = [flags]
             self.m_flags = flags
 
@@ -207,14 +215,7 @@ def register_numpy(name="npf_numpy"):
     class NpfNumpyBsdf(mi.BSDF):
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
-            if not props.has_property("filename"):
-                raise _npf._error("npf plugin", "needs a 'filename' (a material npf opens, e.g. a factor texture)")
-            self.filename = _resolve(str(props["filename"]))
-            self.material = _npf.open(self.filename)
-            _check_variant(self.material, self.filename, spectral)
-            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
-            if not self.material.info["isotropic"]:
-                flags = flags | mi.BSDFFlags.Anisotropic
+            self.filename, self.material, flags = _opened(props, spectral, "a material npf opens, e.g. a factor texture")
             self.m_components = [flags]
             self.m_flags = flags
 
