@@ -63,19 +63,10 @@ void measure_energy_error(const Brdf& source, const NpfModel& model, int samples
     a.threads = threads;
     const std::vector<AlbedoRow> mine = directional_albedo_table(converted, converted.native_query(), a);
     const std::vector<AlbedoRow> theirs = directional_albedo_table(source, source.query(model.channels), a);
-    report.energy_error = 0.0;
-    for (std::size_t r = 0; r < mine.size(); ++r) {
-        for (std::size_t c = 0; c < mine[r].albedo.size(); ++c) {
-            const double ref = theirs[r].albedo[c], got = mine[r].albedo[c];
-            // A black channel of the source: any light there is all error.
-            const double d = ref > 0.0 ? std::fabs(got - ref) / ref : (got > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
-            if (d > report.energy_error) {
-                report.energy_error = d;
-                report.energy_error_theta_deg = mine[r].theta_deg;
-                report.energy_error_channel = c;
-            }
-        }
-    }
+    const AlbedoDifference worst = largest_albedo_difference(mine, theirs);
+    report.energy_error = std::fabs(worst.relative);
+    report.energy_error_theta_deg = report.energy_error > 0.0 ? mine[worst.row].theta_deg : 0.0;
+    report.energy_error_channel = report.energy_error > 0.0 ? worst.channel : 0;
 }
 
 // --target-psnr: the base alone, then each ladder grid, until one's predicted PSNR reaches the

@@ -1,10 +1,10 @@
-#include <npf/core/number_text.h>
 #include <npf/core/clamp.h>
 #include <npf/converter/material_formats.h>
 #include <npf/converter/rgl_brdf.h>
 #include "rgl_u_space.h"
 #include <npf/core/brdf.h>
 #include <npf/core/error.h>
+#include <npf/core/number_text.h>
 #include <npf/core/text.h>
 
 #include <algorithm>

@@ -1,7 +1,7 @@
-#include <npf/core/number_text.h>
 #include <npf/core/cosine_sampling.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
+#include <npf/core/number_text.h>
 #include <npf/core/parallel.h>
 
 #include <algorithm>
@@ -178,6 +178,26 @@ AlbedoPeak largest_albedo(const std::vector<AlbedoRow>& rows) {
         }
     }
     return peak;
+}
+
+double relative_albedo_difference(double material, double reference) {
+    if (reference == 0.0) return material == 0.0 ? 0.0 : (material > 0.0 ? INFINITY : -INFINITY);
+    return (material - reference) / reference;
+}
+
+AlbedoDifference largest_albedo_difference(const std::vector<AlbedoRow>& material, const std::vector<AlbedoRow>& reference) {
+    AlbedoDifference worst;
+    bool first = true;
+    for (std::size_t r = 0; r < std::min(material.size(), reference.size()); ++r) {
+        for (std::size_t c = 0; c < std::min(material[r].albedo.size(), reference[r].albedo.size()); ++c) {
+            const double d = relative_albedo_difference(material[r].albedo[c], reference[r].albedo[c]);
+            if (first || std::fabs(d) > std::fabs(worst.relative) || (std::isnan(d) && !std::isnan(worst.relative))) {
+                worst = {d, r, c};
+                first = false;
+            }
+        }
+    }
+    return worst;
 }
 
 }  // namespace npf

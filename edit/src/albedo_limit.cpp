@@ -1,10 +1,10 @@
-#include <npf/core/number_text.h>
 #include <npf/edit/albedo_limit.h>
 
 #include "tables.h"
 
 #include <npf/shading/npf_albedo.h>
 #include <npf/core/error.h>
+#include <npf/core/number_text.h>
 #include <npf/core/parallel.h>
 #include <npf/shading/npf_texture_layout.h>
 #include <npf/shading/npf_equation.h>

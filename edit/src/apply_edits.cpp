@@ -1,4 +1,3 @@
-#include <npf/core/number_text.h>
 #include <npf/edit/recipe.h>
 
 #include "history.h"
@@ -9,6 +8,7 @@
 #include <npf/core/error.h>
 #include <npf/shading/npf_albedo.h>
 #include <npf/shading/npf_texture_file.h>
+#include <npf/core/number_text.h>
 
 namespace npf::edit {
 

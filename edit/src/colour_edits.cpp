@@ -1,9 +1,9 @@
-#include <npf/core/number_text.h>
 #include <npf/edit/colour_edits.h>
 
 #include "tables.h"
 
 #include <npf/core/error.h>
+#include <npf/core/number_text.h>
 #include <npf/core/vec.h>
 #include <npf/shading/table_interpolation.h>
 

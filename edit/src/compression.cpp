@@ -1,7 +1,8 @@
-#include <npf/core/number_text.h>
 #include <npf/edit/compression.h>
 
 #include "tables.h"
+
+#include <npf/core/number_text.h>
 
 #include <algorithm>
 #include <string>

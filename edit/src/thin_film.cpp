@@ -1,10 +1,10 @@
-#include <npf/core/number_text.h>
 #include <npf/edit/thin_film.h>
 
 #include "tables.h"
 
 #include <npf/converter/analytic/fresnel.h>
 #include <npf/core/error.h>
+#include <npf/core/number_text.h>
 #include <npf/core/vec.h>
 
 #include <algorithm>

@@ -138,11 +138,6 @@ std::vector<double> summary_weights(const std::vector<float>& wavelengths) {
     return w;
 }
 
-double relative_difference(double material, double reference) {
-    if (reference == 0.0) return material == 0.0 ? 0.0 : (material > 0.0 ? INFINITY : -INFINITY);
-    return (material - reference) / reference;
-}
-
 std::string percent(double rel) {
     if (std::isnan(rel)) return "nan";
     if (std::isinf(rel)) return rel > 0 ? "+inf" : "-inf";
@@ -233,17 +228,10 @@ int run_albedo(const std::vector<std::string>& args) {
     const std::size_t n = channels.size();
     const std::vector<std::string> names = channel_names(channels);
     std::vector<std::vector<double>> relative(rows.size());
-    std::size_t worst_row = 0, worst_channel = 0;
-    for (std::size_t r = 0; r < reference_rows.size(); ++r) {
-        for (std::size_t c = 0; c < n; ++c) {
-            relative[r].push_back(relative_difference(rows[r].albedo[c], reference_rows[r].albedo[c]));
-            const double current = relative[worst_row][worst_channel], d = relative[r][c];
-            if (std::fabs(d) > std::fabs(current) || (std::isnan(d) && !std::isnan(current))) {
-                worst_row = r;
-                worst_channel = c;
-            }
-        }
-    }
+    for (std::size_t r = 0; r < reference_rows.size(); ++r)
+        for (std::size_t c = 0; c < n; ++c) relative[r].push_back(relative_albedo_difference(rows[r].albedo[c], reference_rows[r].albedo[c]));
+    const AlbedoDifference largest = largest_albedo_difference(rows, reference_rows);
+    const std::size_t worst_row = largest.row, worst_channel = largest.channel;
     double worst = 0.0, worst_se = 0.0, worst_material = 0.0, worst_reference = 0.0;
     if (against) {
         worst = relative[worst_row][worst_channel];
@@ -367,7 +355,7 @@ int run_albedo(const std::vector<std::string>& args) {
                 for (std::size_t c = 1; c < n; ++c) {
                     if (std::fabs(relative[r][c]) > std::fabs(relative[r][k])) k = c;
                 }
-                line.push_back(percent(relative_difference(mine[0], theirs[0])));
+                line.push_back(percent(relative_albedo_difference(mine[0], theirs[0])));
                 line.push_back(percent(relative[r][k]));
                 line.push_back(names[k]);
             } else {

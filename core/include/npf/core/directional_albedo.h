@@ -79,6 +79,20 @@ struct AlbedoRow {
 std::vector<AlbedoRow> directional_albedo_table(const Brdf& brdf, const ChannelQuery& query,
                                                 const AlbedoTableOptions& options = {});
 
+// The energy error's one rule (npf convert's energy check, npf albedo --against): the signed
+// relative difference of a material's albedo from a reference's, (material - reference) /
+// reference; where the reference is black, 0 if the material is too, else +-infinity (any light
+// there is all error).
+double relative_albedo_difference(double material, double reference);
+
+// The largest |relative_albedo_difference| over two tables of the same views and channels (a NaN
+// counts as the largest), with where it is; `relative` is signed.
+struct AlbedoDifference {
+    double relative = 0.0;
+    std::size_t row = 0, channel = 0;
+};
+AlbedoDifference largest_albedo_difference(const std::vector<AlbedoRow>& material, const std::vector<AlbedoRow>& reference);
+
 // The largest albedo of a table over its rows and channels, and where (the first on ties);
 // all 0 for an empty table.
 struct AlbedoPeak {
