@@ -386,7 +386,7 @@ void render_and_compare(const MaterialJob& job, const Brdf& source, const std::s
         double floor = std::numeric_limits<double>::infinity();  // directional: no samples, no noise
         if (!lighting.directional()) {
             render::RenderOptions ro2 = ro;
-            ro2.seed = check.seed + 1;
+            ro2.seed = render::noise_floor_seed(check.seed);
             floor = render::paired_noise_floor(reference.image, test.image, render::render(source, lighting, ro2).image,
                                                render::render(*fitted, lighting, ro2).image, {}, "reference", "npf")
                         .psnr;

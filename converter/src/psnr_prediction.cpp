@@ -25,8 +25,8 @@ PsnrPredictor::PsnrPredictor(const Brdf& source, const PsnrPredictionOptions& op
     for (const std::string& name : m_options.lightings) m_judged.push_back({render::make_lighting(name, "lighting"), {}, {}});
     for (Judged& j : m_judged) {
         j.source = render_at(source, j.lighting, m_options.seed);
-        if (m_options.floor_seed != 0 && !j.lighting.directional())
-            j.source_floor = render_at(source, j.lighting, m_options.floor_seed);
+        if (m_options.noise_floor && !j.lighting.directional())
+            j.source_floor = render_at(source, j.lighting, render::noise_floor_seed(m_options.seed));
     }
 }
 
@@ -52,11 +52,11 @@ PsnrPrediction PsnrPredictor::predict(const Brdf& conversion, bool with_floor) c
         const color::FloatImage test = render_at(conversion, j.lighting, m_options.seed);
         const render::ImageMetrics m = render::compare_images(j.source, test, {}, "source render", "conversion render");
         l.psnr = m.psnr;
-        if (with_floor && m_options.floor_seed != 0) {
+        if (with_floor && m_options.noise_floor) {
             if (j.lighting.directional()) {
                 l.floor_psnr = std::numeric_limits<double>::infinity();  // no samples, no noise
             } else {
-                const color::FloatImage test2 = render_at(conversion, j.lighting, m_options.floor_seed);
+                const color::FloatImage test2 = render_at(conversion, j.lighting, render::noise_floor_seed(m_options.seed));
                 const render::NoiseFloor f = render::paired_noise_floor(j.source, test, j.source_floor, test2, {},
                                                                         "source render", "conversion render");
                 l.floor_psnr = f.psnr;
@@ -83,7 +83,7 @@ PsnrPrediction PsnrPredictor::predict(const NpfModel& conversion, bool with_floo
 std::string PsnrPredictor::settings_text() const {
     const std::string n = std::to_string(m_options.size);
     const std::string seeds = "seed " + std::to_string(m_options.seed) +
-                              (m_options.floor_seed != 0 ? " (floor: seed " + std::to_string(m_options.floor_seed) + ")" : "");
+                              (m_options.noise_floor ? " (floor: seed " + std::to_string(render::noise_floor_seed(m_options.seed)) + ")" : "");
     const auto spp = [&](const render::Lighting& l) { return std::to_string(m_options.spp * l.spp_factor) + " spp"; };
     // One map: the words of the single-map prediction, so that such a file reads as it did.
     if (m_judged.size() == 1 && !m_judged[0].lighting.directional()) {

@@ -30,9 +30,9 @@ struct PsnrPredictionOptions {
     std::size_t size = 128;        // image width and height, pixels
     std::uint32_t spp = 64;        // samples per pixel
     std::uint64_t seed = 1;        // the full comparison's seed
-    // The paired noise floor (render::paired_noise_floor): the same pair at this second seed,
-    // which doubles the cost of a prediction; 0 skips it.
-    std::uint64_t floor_seed = 2;
+    // The paired noise floor (render::paired_noise_floor): the same pair again at
+    // render::noise_floor_seed(seed), which doubles the cost of a prediction; false skips it.
+    bool noise_floor = true;
     // The lightings judged (render::make_lighting: built-in names or map files), each rendered
     // at spp x its own spp_factor; the prediction is their worst. `npf convert --light` replaces
     // the set: a material for a softly lit background need not be judged under a key light.

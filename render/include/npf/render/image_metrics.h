@@ -22,6 +22,7 @@
 #include <npf/color/display_image.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -112,8 +113,12 @@ struct NoiseFloor {
 // "paired" or "reference" (npf compare's noise_floor_kind).
 const char* noise_floor_kind_name(NoiseFloorKind kind);
 
+// The seed of a paired comparison's second pair, the one its noise floor is measured with: the
+// next one (npf convert's prediction, the batch's validation renders, docs/metrics.md sec. 5).
+inline std::uint64_t noise_floor_seed(std::uint64_t seed) { return seed + 1; }
+
 // The paired floor of compare_images(reference, test): `reference2` and `test2` are the same two
-// materials rendered at a second seed. All four images must have the same size and channel
+// materials rendered at a second seed (noise_floor_seed). All four images must have the same size and channel
 // count; same checks and errors as compare_images (naming the file).
 NoiseFloor paired_noise_floor(const color::FloatImage& reference, const color::FloatImage& test,
                               const color::FloatImage& reference2, const color::FloatImage& test2,
