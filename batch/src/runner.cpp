@@ -110,15 +110,15 @@ std::optional<double> attr_number(const std::map<std::string, std::string>& h, c
 
 void fill_from_header(MaterialResult& r, const std::map<std::string, std::string>& h) {
     const std::string m = npf_exr::kMetadataPrefix;
-    r.error_mean = attr_number(h, m + "error_rel_rms_mean");
-    r.error_max = attr_number(h, m + "error_rel_rms_max");
-    r.fitted_error_mean = attr_number(h, m + "error_fitted_rel_rms_mean");
-    r.fitted_error_max = attr_number(h, m + "error_fitted_rel_rms_max");
-    r.albedo_max = attr_number(h, m + "albedo_max");
+    r.error_mean = attr_number(h, m + npf_exr::kMetaErrorMean);
+    r.error_max = attr_number(h, m + npf_exr::kMetaErrorMax);
+    r.fitted_error_mean = attr_number(h, m + npf_exr::kMetaFittedErrorMean);
+    r.fitted_error_max = attr_number(h, m + npf_exr::kMetaFittedErrorMax);
+    r.albedo_max = attr_number(h, m + npf_exr::kMetaAlbedoMax);
     r.edits.clear();
     for (int k = 1; k < 1000; ++k) {
         char key[32];
-        std::snprintf(key, sizeof key, "edit_%03d", k);
+        std::snprintf(key, sizeof key, "%s%03d", npf_exr::kMetaEditPrefix, k);
         const auto it = h.find(m + key);
         if (it == h.end()) break;
         r.edits.push_back(first_line(it->second));

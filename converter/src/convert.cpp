@@ -429,10 +429,10 @@ Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, c
     m.emplace_back("fit_invalid_values", std::to_string(report.fit.invalid_values));
     settings_lines(11, 11);
     if (settings.error_pairs > 0) {
-        m.emplace_back("error_fitted_rel_rms_mean", number_text(report.fitted_error.mean_relative_rms));
-        m.emplace_back("error_fitted_rel_rms_max", number_text(report.fitted_error.max_relative_rms));
-        m.emplace_back("error_rel_rms_mean", number_text(report.compressed_error.mean_relative_rms));
-        m.emplace_back("error_rel_rms_max", number_text(report.compressed_error.max_relative_rms));
+        m.emplace_back(npf_exr::kMetaFittedErrorMean, number_text(report.fitted_error.mean_relative_rms));
+        m.emplace_back(npf_exr::kMetaFittedErrorMax, number_text(report.fitted_error.max_relative_rms));
+        m.emplace_back(npf_exr::kMetaErrorMean, number_text(report.compressed_error.mean_relative_rms));
+        m.emplace_back(npf_exr::kMetaErrorMax, number_text(report.compressed_error.max_relative_rms));
         const BrdfComparisonResult::Worst& w = report.held_out.worst;
         m.emplace_back("error_held_out_rel_rms", number_text(report.held_out.relative_rms));
         m.emplace_back("error_held_out_rel_rms_60", number_text(report.held_out.relative_rms_60));

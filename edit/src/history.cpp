@@ -1,9 +1,11 @@
 #include "history.h"
 
 #include <npf/edit/recipe.h>
+#include <npf/shading/npf_texture_layout.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -12,9 +14,10 @@ namespace npf::edit {
 namespace {
 
 bool is_history_key(const std::string& key, int* number) {
-    if (key.size() < 6 || key.compare(0, 5, "edit_") != 0) return false;
+    const std::size_t prefix = std::strlen(npf_exr::kMetaEditPrefix);
+    if (key.size() <= prefix || key.compare(0, prefix, npf_exr::kMetaEditPrefix) != 0) return false;
     int n = 0;
-    for (std::size_t i = 5; i < key.size(); ++i) {
+    for (std::size_t i = prefix; i < key.size(); ++i) {
         if (key[i] < '0' || key[i] > '9' || n > 100000000) return false;
         n = n * 10 + (key[i] - '0');
     }
@@ -37,7 +40,7 @@ int next_history_number(const NpfModel& model) {
 
 std::string history_key(int number) {
     char b[32];
-    std::snprintf(b, sizeof b, "edit_%03d", number);
+    std::snprintf(b, sizeof b, "%s%03d", npf_exr::kMetaEditPrefix, number);
     return b;
 }
 

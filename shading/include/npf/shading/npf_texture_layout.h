@@ -59,6 +59,14 @@ constexpr const char* kMetaAlbedoMaxViewTheta = "albedo_max_view_theta";
 constexpr const char* kMetaBatchName = "batch_name";                        // npf batch
 constexpr const char* kMetaBatchSettings = "batch_settings";
 constexpr const char* kMetaBatchHash = "batch_hash";                        // up to date?
+// npf convert's BRDF-space errors (mean over channels, worst channel) of the file and of the
+// fitted factors before compression, read back by npf batch for its summary.
+constexpr const char* kMetaErrorMean = "error_rel_rms_mean";
+constexpr const char* kMetaErrorMax = "error_rel_rms_max";
+constexpr const char* kMetaFittedErrorMean = "error_fitted_rel_rms_mean";
+constexpr const char* kMetaFittedErrorMax = "error_fitted_rel_rms_max";
+// The edit history: "edit_001", "edit_002", ... (npf edit writes them, npf batch reads them).
+constexpr const char* kMetaEditPrefix = "edit_";
 // Per part (informative; readers rely on the grid sizes above): what x and y index.
 constexpr const char* kAttrXAxis = "npf:x_axis";
 constexpr const char* kAttrYAxis = "npf:y_axis";
