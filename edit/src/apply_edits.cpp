@@ -15,10 +15,16 @@ namespace npf::edit {
 namespace {
 
 // The factors (not the metadata) of two models are the same, bit for bit.
+// Whether two models shade alike: every table the value reads, the detail layer and the channels
+// included (a step that changed only those must have its albedo measured again).
 bool same_factors(const NpfModel& a, const NpfModel& b) {
-    return a.d_theta == b.d_theta && a.d_phi == b.d_phi && a.g_theta == b.g_theta && a.g_phi == b.g_phi &&
-           a.f_theta == b.f_theta && a.rho_d == b.rho_d && a.rho_s == b.rho_s && a.F == b.F && a.D.basis == b.D.basis &&
-           a.D.weights == b.D.weights && a.G.basis == b.G.basis && a.G.weights == b.G.weights;
+    const auto same_basis = [](const SpectralBasis& x, const SpectralBasis& y) {
+        return x.rank == y.rank && x.cells == y.cells && x.basis == y.basis && x.weights == y.weights;
+    };
+    return a.channels.is_rgb() == b.channels.is_rgb() && a.channels.wavelengths() == b.channels.wavelengths() &&
+           a.d_theta == b.d_theta && a.d_phi == b.d_phi && a.g_theta == b.g_theta && a.g_phi == b.g_phi &&
+           a.f_theta == b.f_theta && a.rho_d == b.rho_d && a.rho_s == b.rho_s && a.F == b.F && same_basis(a.D, b.D) &&
+           same_basis(a.G, b.G) && a.detail_grid == b.detail_grid && same_basis(a.detail, b.detail);
 }
 
 NpfModel apply_step(const NpfModel& model, const EditStep& s, const EditOptions& options, EditRecord* rec) {
