@@ -98,3 +98,32 @@ TEST(EditCompression, RecipeStepParsesAndRejectsBadValues) {
 }
 
 }  // namespace
+
+namespace {
+
+// A step is its own operation: apply_edits runs whatever the step carries, so a new edit kind
+// needs no field in EditStep and no case in apply_edits (issue 36). Here a kind no list knows,
+// halving the diffuse albedo, runs through apply_edits with its history entry and albedo check.
+TEST(EditSteps, AStepCarriesItsOwnOperation) {
+    npf::testing::MicrofacetSpec spec;
+    const npf::NpfModel model = npf::compress_factors(npf::testing::make_microfacet_factors(spec), npf::CompressionOptions{});
+    npf::edit::EditStep halve;
+    halve.label = "halve the diffuse albedo";
+    halve.operation = [](const npf::NpfModel& m, const npf::edit::EditOptions&, npf::edit::EditRecord* rec) {
+        npf::NpfModel out = m;
+        for (float& v : out.rho_d) v *= 0.5f;
+        if (rec) rec->summary = "rho_d x 0.5";
+        return out;
+    };
+    const npf::edit::EditResult r = npf::edit::apply_edits(model, {halve});
+    ASSERT_EQ(r.model.rho_d.size(), model.rho_d.size());
+    for (std::size_t c = 0; c < model.rho_d.size(); ++c) EXPECT_EQ(r.model.rho_d[c], 0.5f * model.rho_d[c]);
+    ASSERT_EQ(r.records.size(), 1u);
+    EXPECT_NE(r.records[0].summary.find("rho_d x 0.5"), std::string::npos);
+    EXPECT_EQ(r.history_keys, std::vector<std::string>{"edit_001"});
+    npf::edit::EditStep empty;
+    empty.label = "nothing";
+    EXPECT_THROW(npf::edit::apply_edits(model, {empty}), npf::Error);
+}
+
+}  // namespace

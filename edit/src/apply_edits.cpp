@@ -14,7 +14,6 @@ namespace npf::edit {
 
 namespace {
 
-// The factors (not the metadata) of two models are the same, bit for bit.
 // Whether two models shade alike: every table the value reads, the detail layer and the channels
 // included (a step that changed only those must have its albedo measured again).
 bool same_factors(const NpfModel& a, const NpfModel& b) {
@@ -25,33 +24,6 @@ bool same_factors(const NpfModel& a, const NpfModel& b) {
            a.d_theta == b.d_theta && a.d_phi == b.d_phi && a.g_theta == b.g_theta && a.g_phi == b.g_phi &&
            a.f_theta == b.f_theta && a.rho_d == b.rho_d && a.rho_s == b.rho_s && a.F == b.F && same_basis(a.D, b.D) &&
            same_basis(a.G, b.G) && a.detail_grid == b.detail_grid && same_basis(a.detail, b.detail);
-}
-
-NpfModel apply_step(const NpfModel& model, const EditStep& s, const EditOptions& options, EditRecord* rec) {
-    switch (s.kind) {
-    case EditStep::Kind::Ndf:
-        return transform_ndf(model, s.matrix, options.ndf, rec);
-    case EditStep::Kind::DiffuseMaterial:
-        return replace_diffuse(model, read_npf_texture(s.path), s.scale, rec);
-    case EditStep::Kind::DiffuseSpectrum:
-        return replace_diffuse_albedo(model, s.spectrum, rec);
-    case EditStep::Kind::DiffuseRgb:
-        return replace_diffuse_albedo(model, s.rgb, rec);
-    case EditStep::Kind::SpecularMaterial:
-        return replace_specular(model, read_npf_texture(s.path), SpecularSwap{s.scale, s.keep_brightness}, rec);
-    case EditStep::Kind::ThinFilm:
-        return apply_thin_film(model, s.film, rec);
-    case EditStep::Kind::Compress:
-        return compress_model(model, s.compression, rec);
-    case EditStep::Kind::LimitAlbedo: {
-        AlbedoLimit cap;
-        cap.cap = s.cap;
-        cap.threads = options.albedo.threads;
-        cap.progress = options.progress;
-        return limit_albedo(model, cap, rec);
-    }
-    }
-    return model;  // not reached: every kind is handled above
 }
 
 }  // namespace
@@ -68,7 +40,8 @@ EditResult apply_edits(const NpfModel& model, const std::vector<EditStep>& steps
         EditRecord rec;
         const NpfModel before = r.model;
         try {
-            r.model = apply_step(r.model, s, options, &rec);
+            if (!s.operation) throw Error(s.origin.empty() ? "edit" : s.origin, "the step '" + s.label + "' has no operation");
+            r.model = s.operation(r.model, options, &rec);
         } catch (const Error& e) {
             if (s.origin.empty()) throw;
             throw Error(s.origin, e.what());

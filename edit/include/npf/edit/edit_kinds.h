@@ -3,7 +3,8 @@
 // reads its typed parameters from a recipe's value or from a flag's text, and builds its step,
 // label included, from those parameters alone. The recipe reader (recipe.h) and `npf edit` build
 // steps only through this list, and the help of `npf edit` lists its flags: a new kind is a new
-// file in edit/src/kinds/, declared and listed in edit/src/edit_kinds.cpp.
+// file in edit/src/kinds/, declared and listed in edit/src/edit_kinds.cpp. Its step carries its
+// own operation (EditStep::operation), so apply_edits needs no change for it.
 #pragma once
 
 #include <npf/edit/edit_step.h>

@@ -7,9 +7,13 @@
 #include <npf/edit/ndf_transform.h>
 #include <npf/edit/thin_film.h>
 
+#include <functional>
 #include <string>
 
 namespace npf::edit {
+
+struct EditOptions;  // recipe.h
+struct EditRecord;   // edit_record.h
 
 struct EditStep {
     enum class Kind {
@@ -34,6 +38,10 @@ struct EditStep {
     ThinFilm film;
     CompressionOptions compression;
     double cap = 1.0;  // LimitAlbedo
+    // What the step does to a model, set by the factory that built it: apply_edits runs it, so a
+    // new kind brings its own operation (its parameters captured here) and needs no field above
+    // and no case in apply_edits. The fields above describe the shipped kinds' parameters.
+    std::function<NpfModel(const NpfModel& model, const EditOptions& options, EditRecord* record)> operation;
 
     static EditStep ndf(const Mat3& m, std::string label);
     static EditStep diffuse_from(std::string path, double scale = 1.0);
