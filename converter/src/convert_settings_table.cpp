@@ -84,8 +84,14 @@ SettingValue check_setting(const ConvertSettingRow& row, const std::string& v, c
                 return !range || ((range->low_open ? d > range->low : d >= range->low) && d <= range->high);
             };
             if (row.kind == SettingKind::Whole) {
-                const std::uint64_t n = parse_whole_number(p, 0, std::numeric_limits<std::uint32_t>::max(), what);
-                if (!inside(double(n))) throw Error(what, "needs a whole number in " + range_text(*range) + ", got '" + p + "'");
+                const std::string problem = "needs a whole number in " + (range ? range_text(*range) : "[0, 4294967295]") + ", got '" + p + "'";
+                std::uint64_t n = 0;
+                try {
+                    n = parse_whole_number(p, 0, std::numeric_limits<std::uint32_t>::max(), what);
+                } catch (const Error&) {
+                    throw Error(what, problem);  // the row's range, not the parser's
+                }
+                if (!inside(double(n))) throw Error(what, problem);
                 out.numbers.push_back(double(n));
             } else {
                 const double d = parse_finite_number(p, what);
