@@ -61,6 +61,25 @@ std::vector<float> paired_cells_of(const SpectralBasis& s, int rows, int cols, b
     return out;
 }
 
+SpectralBasis channel_tables_of(const SpectralBasis& s, std::size_t channels) {
+    SpectralBasis out;
+    if (s.rank < 1 || channels < 1 || channels > 4) return out;
+    const std::size_t rank = std::size_t(s.rank);
+    out.rank = int(channels);
+    out.cells = s.cells;
+    out.basis.assign(channels * s.cells, 0.f);
+    out.weights.assign(channels * channels, 0.f);
+    for (std::size_t c = 0; c < channels; ++c) {
+        out.weights[c * channels + c] = 1.f;
+        for (std::size_t cell = 0; cell < s.cells; ++cell) {
+            double v = 0.0;
+            for (std::size_t k = 0; k < rank; ++k) v += double(s.weights[c * rank + k]) * double(s.basis[k * s.cells + cell]);
+            out.basis[c * s.cells + cell] = float(v);
+        }
+    }
+    return out;
+}
+
 std::vector<float> channel_records_of(const NpfModel& m) {
     const std::size_t rd = std::size_t(m.D.rank), rg = std::size_t(m.G.rank), rr = std::size_t(m.detail.rank);
     if (2 + rd + rg + rr > 8) return {};
@@ -111,7 +130,8 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
     auto data_or_null = [](const std::vector<float>& v) { return v.empty() ? nullptr : v.data(); };
     const batch_detail::CellMajorBases cell_major{data_or_null(m_cell_major_d), data_or_null(m_cell_major_g),
                                                   data_or_null(m_cell_major_detail), data_or_null(m_cell_major_f),
-                                                  data_or_null(m_channel_records)};
+                                                  data_or_null(m_channel_records), data_or_null(m_channel_d),
+                                                  data_or_null(m_channel_g), data_or_null(m_channel_detail)};
     const AngleNeeds needs = m_model.angle_needs();
     batch_detail::BlockAngles angles;
     batch_detail::BlockAnglesOf<float> float_angles;
