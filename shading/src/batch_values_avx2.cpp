@@ -4,7 +4,9 @@
 // (npf_batch.cpp). Every sum below is NpfModel::position's and NpfModel::value's, term for term in
 // their order, so that each double lane gets the scalar closure's bits
 // (tests/test_batch_closure.cpp); float lanes are held to the float budget
-// (tests/test_batch_float.cpp).
+// (tests/test_batch_float.cpp). Compiled twice: as itself, the double lanes (values_avx2), and
+// through batch_values_float_avx2.cpp with NPF_BATCH_VALUES_FLOAT, the float lanes
+// (values_float_avx2) with FMA and contracted multiply-adds, which only they may have.
 #include "batch_values.h"
 
 #if defined(__AVX2__)
@@ -464,17 +466,19 @@ std::size_t values_of(const NpfModel& m, const CellMajorBases& cells, const Bloc
 
 }  // namespace
 
+#if !defined(NPF_BATCH_VALUES_FLOAT)
 std::size_t values_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAngles& angles, std::size_t count,
                         const std::uint8_t* valid, const ValueRequestOfBlock& request, std::size_t first, float* values,
                         std::size_t n) {
     return values_of<Double4>(m, cells, angles, count, valid, request, first, values, n);
 }
-
+#else
 std::size_t values_float_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<float>& angles,
                               std::size_t count, const std::uint8_t* valid, const ValueRequestOfBlock& request,
                               std::size_t first, float* values, std::size_t n) {
     return values_of<Float8>(m, cells, angles, count, valid, request, first, values, n);
 }
+#endif
 
 }  // namespace npf::batch_detail
 
@@ -482,15 +486,17 @@ std::size_t values_float_avx2(const NpfModel& m, const CellMajorBases& cells, co
 
 namespace npf::batch_detail {
 
+#if !defined(NPF_BATCH_VALUES_FLOAT)
 std::size_t values_avx2(const NpfModel&, const CellMajorBases&, const BlockAngles&, std::size_t, const std::uint8_t*,
                         const ValueRequestOfBlock&, std::size_t, float*, std::size_t) {
     return 0;  // no vector path in this build: the caller shades every pair
 }
-
+#else
 std::size_t values_float_avx2(const NpfModel&, const CellMajorBases&, const BlockAnglesOf<float>&, std::size_t,
                               const std::uint8_t*, const ValueRequestOfBlock&, std::size_t, float*, std::size_t) {
     return 0;
 }
+#endif
 
 }  // namespace npf::batch_detail
 

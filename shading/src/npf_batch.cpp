@@ -36,6 +36,17 @@ struct BlockPointers {
         : view{v.x + b, v.y + b, v.z + b}, light{l.x + b, l.y + b, l.z + b} {}
 };
 
+// The float lanes' kernels are compiled with FMA (CMakeLists.txt): every AVX2 CPU made has it,
+// but they run only where the CPU reports it (elsewhere the double path shades).
+bool cpu_has_fma() {
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
+    static const bool has = __builtin_cpu_supports("fma");
+    return has;
+#else
+    return false;
+#endif
+}
+
 }  // namespace
 
 namespace batch_detail {
@@ -124,8 +135,8 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
     }
     const bool avx2 = simd_isa() == SimdIsa::Avx2;
     const bool vector_values = avx2 && batch_detail::vector_values_apply(m_model);
-    const bool float_lanes =
-        vector_values && m_batch_precision == BatchPrecision::Float && batch_detail::float_values_apply(m_model);
+    const bool float_lanes = vector_values && m_batch_precision == BatchPrecision::Float && cpu_has_fma() &&
+                             batch_detail::float_values_apply(m_model);
     const batch_detail::ValueRequestOfBlock block_request{stored, wavelengths, &m_wavelengths, count};
     auto data_or_null = [](const std::vector<float>& v) { return v.empty() ? nullptr : v.data(); };
     const batch_detail::CellMajorBases cell_major{data_or_null(m_cell_major_d), data_or_null(m_cell_major_g),
