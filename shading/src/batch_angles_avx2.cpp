@@ -7,7 +7,6 @@
 
 #if defined(__AVX2__)
 #include "simd_double4.h"
-#include "simd_float8.h"
 
 #include <limits>
 
@@ -16,7 +15,6 @@ namespace npf::batch_detail {
 namespace {
 
 using simd::Double4;
-using simd::Float8;
 
 template <bool DAzimuth, bool GAzimuth, bool Detail>
 void angles(std::size_t n, const float* const view[3], const float* const light[3], BlockAngles& out) {
@@ -29,19 +27,6 @@ void angles(std::size_t n, const float* const view[3], const float* const light[
         store_angles(out, i, a, [](double* p, Double4 v) { simd::store4(p, v); });
     }
     if (i < n) angles_portable(n - i, view, light, needs, out, i);
-}
-
-template <bool DAzimuth, bool GAzimuth, bool Detail>
-std::size_t angles_float(std::size_t n, const float* const view[3], const float* const light[3], BlockAnglesOf<float>& out) {
-    constexpr AngleNeeds needs{DAzimuth, GAzimuth, Detail};
-    std::size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        PairAnglesOf<Float8> a;
-        pair_angles_of<Float8>(simd::load8(view[0] + i), simd::load8(view[1] + i), simd::load8(view[2] + i),
-                               simd::load8(light[0] + i), simd::load8(light[1] + i), simd::load8(light[2] + i), needs, a);
-        store_angles(out, i, a, [](float* p, Float8 v) { simd::store8(p, v); });
-    }
-    return i;
 }
 
 template <bool DAzimuth>
@@ -100,21 +85,6 @@ std::size_t domains_avx2(std::size_t n, const float* const view[3], const float*
     return i;
 }
 
-std::size_t angles_float_avx2(std::size_t n, const float* const view[3], const float* const light[3], AngleNeeds needs,
-                              BlockAnglesOf<float>& out) {
-    const int k = (needs.d_azimuth ? 4 : 0) + (needs.g_azimuth ? 2 : 0) + (needs.detail ? 1 : 0);
-    switch (k) {
-    case 0: return angles_float<false, false, false>(n, view, light, out);
-    case 1: return angles_float<false, false, true>(n, view, light, out);
-    case 2: return angles_float<false, true, false>(n, view, light, out);
-    case 3: return angles_float<false, true, true>(n, view, light, out);
-    case 4: return angles_float<true, false, false>(n, view, light, out);
-    case 5: return angles_float<true, false, true>(n, view, light, out);
-    case 6: return angles_float<true, true, false>(n, view, light, out);
-    default: return angles_float<true, true, true>(n, view, light, out);
-    }
-}
-
 }  // namespace npf::batch_detail
 
 #else
@@ -128,10 +98,6 @@ void angles_avx2(std::size_t n, const float* const view[3], const float* const l
 void half_vectors_avx2(std::size_t n, const float* const view[3], const float* const light[3], bool d_azimuth,
                        BlockHalfVectors& out) {
     half_vectors_portable(n, view, light, d_azimuth, out);
-}
-
-std::size_t angles_float_avx2(std::size_t, const float* const[3], const float* const[3], AngleNeeds, BlockAnglesOf<float>&) {
-    return 0;  // no float lanes in this build: the caller takes the double path
 }
 
 std::size_t domains_avx2(std::size_t, const float* const[3], const float* const[3], std::uint8_t*) { return 0; }

@@ -56,6 +56,12 @@ std::vector<float> cell_major_of(const float* tables, int count, std::size_t cel
 // a rank above 4.
 std::vector<float> paired_cells_of(const SpectralBasis& s, int rows, int cols, bool pair_rows);
 
+// A basis recombined channel by channel: rank c is channel c's table (the sum of the ranks by its
+// weights, in double, rounded to float), the weights the identity. Interpolation commutes with
+// that sum, so the float lanes look the stored channels up in these and skip the sum per value
+// (within the float budget, not to the bit). Rank 0 where there are more than 4 channels.
+SpectralBasis channel_tables_of(const SpectralBasis& s, std::size_t channels);
+
 // Each channel's coefficients in one record of eight floats: rho_d, rho_s, D's weights, G's
 // weights, the detail layer's weights, then 0 (channel c at [c * 8]), so that a lane's channel
 // comes with one load. Empty where they do not fit in eight.
@@ -70,6 +76,11 @@ struct CellMajorBases {
     const float* detail = nullptr;
     const float* f = nullptr;  // F of up to four channels, cell by cell (the stored channels' F at once)
     const float* channel_records = nullptr;
+    // Paired copies of channel_tables_of's D, G and detail layer (the detail's null without one),
+    // for the float lanes' stored channels; d null where absent.
+    const float* channel_d = nullptr;
+    const float* channel_g = nullptr;
+    const float* channel_detail = nullptr;
 };
 
 // Pairs [0, groups * 4) of the block whose angles are `angles` and whose first pair is pair

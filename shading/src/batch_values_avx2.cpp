@@ -4,7 +4,9 @@
 // (npf_batch.cpp). Every sum below is NpfModel::position's and NpfModel::value's, term for term in
 // their order, so that each double lane gets the scalar closure's bits
 // (tests/test_batch_closure.cpp); float lanes are held to the float budget
-// (tests/test_batch_float.cpp).
+// (tests/test_batch_float.cpp). Compiled twice: as itself, the double lanes (values_avx2), and
+// through batch_values_float_avx2.cpp with NPF_BATCH_VALUES_FLOAT, the float lanes
+// (values_float_avx2) with FMA and contracted multiply-adds, which only they may have.
 #include "batch_values.h"
 
 #if defined(__AVX2__)
@@ -12,6 +14,8 @@
 #include "simd_float8.h"
 
 #include <npf/shading/npf_equation.h>
+
+#include <type_traits>
 
 namespace npf::batch_detail {
 
@@ -230,19 +234,20 @@ NPF_GENERIC_INLINE Corners<V> bilinear_of(const LerpOf<V>& row, const LerpOf<V>&
 }
 
 // The bilinear value of each rank at a group of pairs: from the paired copy where there is one
-// (the same products and sums, so the same bits), else gathered rank by rank.
+// (the same products and sums, so the same bits), else gathered rank by rank. rank: s.rank, or
+// the channel count for a paired copy of channel_tables_of's.
 template <class V>
-NPF_GENERIC_INLINE void project(const SpectralBasis& s, const float* paired, const Corners<V>& k, V* out) {
+NPF_GENERIC_INLINE void project(const SpectralBasis& s, int rank, const float* paired, const Corners<V>& k, V* out) {
     if (paired) {
         V a[8];  // ranks of the first cell of the pair in a[0..3], of the second in a[4..7]
         Lanes<V>::columns8(paired, 4, k.pair[0], a);
         if (k.one_column) {
-            for (int r = 0; r < s.rank; ++r) out[r] = a[r] * k.weight[0] + a[r] * k.weight[1] + a[4 + r] * k.weight[2] + a[4 + r] * k.weight[3];
+            for (int r = 0; r < rank; ++r) out[r] = a[r] * k.weight[0] + a[r] * k.weight[1] + a[4 + r] * k.weight[2] + a[4 + r] * k.weight[3];
             return;
         }
         V b[8];
         Lanes<V>::columns8(paired, 4, k.pair[1], b);
-        for (int r = 0; r < s.rank; ++r) out[r] = a[r] * k.weight[0] + a[4 + r] * k.weight[1] + b[r] * k.weight[2] + b[4 + r] * k.weight[3];
+        for (int r = 0; r < rank; ++r) out[r] = a[r] * k.weight[0] + a[4 + r] * k.weight[1] + b[r] * k.weight[2] + b[4 + r] * k.weight[3];
         return;
     }
     const float* t = s.basis.data();
@@ -276,16 +281,23 @@ LerpOf<V> g_column(V phi, int g_phi) {
 }
 
 // NpfModel::position for the group of pairs from j of the block; lanes outside the domain (keep
-// false) look up at angles 0 (valid cells; their values are zeroed later).
+// false) look up at angles 0 (valid cells; their values are zeroed later). per_channel: from the
+// channel tables (cells.channel_*), g.d, g.g_i, g.g_o and g.r then holding each channel's value.
 template <class V>
 void position(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<typename Lanes<V>::Scalar>& a,
-              std::size_t j, typename Lanes<V>::Keep keep, bool stored, Group<V>& g) {
+              std::size_t j, typename Lanes<V>::Keep keep, bool stored, bool per_channel, Group<V>& g) {
     using L = Lanes<V>;
+    const int channels = int(m.channel_count());
+    const float* d_cells = per_channel ? cells.channel_d : cells.d;
+    const float* g_cells = per_channel ? cells.channel_g : cells.g;
+    const float* detail_cells = per_channel ? cells.channel_detail : cells.detail;
+    const int d_rank = per_channel ? channels : m.D.rank, g_rank = per_channel ? channels : m.G.rank;
+    const int detail_rank = per_channel ? channels : m.detail.rank;
     auto at = [&](const typename L::Scalar* field) { return L::keep(keep, L::load(field + j)); };
     g.cos_o = at(a.cos_o);
     g.inv_cos_product = at(a.inv_cos_product);
     const V u_h = at(a.u_h), theta_d = at(a.theta_d);
-    project(m.D, cells.d, bilinear_of(equation::d_row_of(u_h, m.d_theta), equation::column_of(at(a.phi_h), m.d_phi), m.d_phi, cells.d), g.d);
+    project(m.D, d_rank, d_cells, bilinear_of(equation::d_row_of(u_h, m.d_theta), equation::column_of(at(a.phi_h), m.d_phi), m.d_phi, d_cells), g.d);
     const LerpOf<V> f = equation::f_row_of(theta_d, m.f_theta);
     g.f0 = simd::to_int32(f.i0);
     g.f1 = simd::to_int32(f.i1);
@@ -295,8 +307,8 @@ void position(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesO
         L::corner_ranks(cells.f, g.f0, g.f_at0);
         L::corner_ranks(cells.f, g.f1, g.f_at1);
     }
-    project(m.G, cells.g, bilinear_of(equation::g_row_of(at(a.theta_gi), m.g_theta), g_column(at(a.phi_gi), m.g_phi), m.g_phi, cells.g), g.g_i);
-    project(m.G, cells.g, bilinear_of(equation::g_row_of(at(a.theta_go), m.g_theta), g_column(at(a.phi_go), m.g_phi), m.g_phi, cells.g), g.g_o);
+    project(m.G, g_rank, g_cells, bilinear_of(equation::g_row_of(at(a.theta_gi), m.g_theta), g_column(at(a.phi_gi), m.g_phi), m.g_phi, g_cells), g.g_i);
+    project(m.G, g_rank, g_cells, bilinear_of(equation::g_row_of(at(a.theta_go), m.g_theta), g_column(at(a.phi_go), m.g_phi), m.g_phi, g_cells), g.g_o);
     if (!m.has_detail()) return;
     const DetailGrid& grid = m.detail_grid;
     LerpOf<V> h, d, p;
@@ -304,17 +316,17 @@ void position(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesO
     V weight[8];
     trilinear_weights<V>(h.t, d.t, p.t, weight);
     const V rows = V(double(grid.theta_d)), cols = V(double(grid.phi_d));
-    if (cells.detail) {  // corners 2q and 2q + 1 (along phi_d) side by side; each rank's sum in the order below
+    if (detail_cells) {  // corners 2q and 2q + 1 (along phi_d) side by side; each rank's sum in the order below
         const V padded = V(double(grid.phi_d + 1));
         V sum[4] = {V(0.0), V(0.0), V(0.0), V(0.0)};  // all four ranks, in registers (the copy pads with 0)
         for (int q = 0; q < 4; ++q) {
             const V hi = q & 2 ? h.i1 : h.i0, di = q & 1 ? d.i1 : d.i0;
             V c[8];
-            L::columns8(cells.detail, 4, simd::to_int32((hi * rows + di) * padded + p.i0), c);
+            L::columns8(detail_cells, 4, simd::to_int32((hi * rows + di) * padded + p.i0), c);
             for (int r = 0; r < 4; ++r) sum[r] = sum[r] + c[r] * weight[2 * q];
             for (int r = 0; r < 4; ++r) sum[r] = sum[r] + c[4 + r] * weight[2 * q + 1];
         }
-        for (int r = 0; r < m.detail.rank; ++r) g.r[r] = sum[r];
+        for (int r = 0; r < detail_rank; ++r) g.r[r] = sum[r];
         return;
     }
     typename L::Index index[8];
@@ -390,6 +402,15 @@ NPF_GENERIC_INLINE V value_of(const NpfModel& m, const Group<V>& g, const Channe
     return equation::with_detail_of<V>(base, r);
 }
 
+// The same from position's per_channel values (channel tables): no sums over ranks.
+template <class V>
+NPF_GENERIC_INLINE V channel_value_of(const NpfModel& m, const Group<V>& g, const SameChannel<V>& c) {
+    const std::size_t k = c.c;
+    const V base = equation::value_of<V>(c.rho_d(), c.rho_s(), g.d[k], c.f_value(g), g.g_i[k], g.g_o[k], g.inv_cos_product);
+    if (m.detail.rank == 0) return base;
+    return equation::with_detail_of<V>(base, g.r[k]);
+}
+
 // NpfClosure::write_values' last step: finite_float(max(0, v) cos_light), then 0 outside the domain.
 template <class V>
 void store_values(V v, V cos_light, typename Lanes<V>::Keep keep, float* out) {
@@ -404,6 +425,10 @@ std::size_t values_of(const NpfModel& m, const CellMajorBases& cells, const Bloc
     using L = Lanes<V>;
     constexpr std::size_t kLanes = std::size_t(L::kCount);
     Group<V> g;
+    // Float lanes with stored channels look each channel up in its own tables where they exist
+    // (channel_tables_of); the double path keeps the scalar closure's sums, to the bit.
+    const bool per_channel = std::is_same<V, simd::Float8>::value && request.stored && cells.channel_d && cells.channel_g &&
+                             (m.detail.rank == 0 || cells.channel_detail);
     std::size_t j = 0;
     for (; j + kLanes <= count; j += kLanes) {
         const typename L::Keep keep = L::keep_of(valid + j);
@@ -412,7 +437,12 @@ std::size_t values_of(const NpfModel& m, const CellMajorBases& cells, const Bloc
             for (std::size_t k = 0; k < request.count; ++k) L::store_zero(out + k * n);
             continue;
         }
-        position<V>(m, cells, angles, j, keep, request.stored, g);
+        position<V>(m, cells, angles, j, keep, request.stored, per_channel, g);
+        if (per_channel) {
+            for (std::size_t k = 0; k < request.count; ++k)
+                store_values(channel_value_of(m, g, SameChannel<V>{m, k}), g.cos_o, keep, out + k * n);
+            continue;
+        }
         if (request.stored) {
             for (std::size_t k = 0; k < request.count; ++k) store_values(value_of(m, g, SameChannel<V>{m, k}), g.cos_o, keep, out + k * n);
             continue;
@@ -436,17 +466,19 @@ std::size_t values_of(const NpfModel& m, const CellMajorBases& cells, const Bloc
 
 }  // namespace
 
+#if !defined(NPF_BATCH_VALUES_FLOAT)
 std::size_t values_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAngles& angles, std::size_t count,
                         const std::uint8_t* valid, const ValueRequestOfBlock& request, std::size_t first, float* values,
                         std::size_t n) {
     return values_of<Double4>(m, cells, angles, count, valid, request, first, values, n);
 }
-
+#else
 std::size_t values_float_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<float>& angles,
                               std::size_t count, const std::uint8_t* valid, const ValueRequestOfBlock& request,
                               std::size_t first, float* values, std::size_t n) {
     return values_of<Float8>(m, cells, angles, count, valid, request, first, values, n);
 }
+#endif
 
 }  // namespace npf::batch_detail
 
@@ -454,15 +486,17 @@ std::size_t values_float_avx2(const NpfModel& m, const CellMajorBases& cells, co
 
 namespace npf::batch_detail {
 
+#if !defined(NPF_BATCH_VALUES_FLOAT)
 std::size_t values_avx2(const NpfModel&, const CellMajorBases&, const BlockAngles&, std::size_t, const std::uint8_t*,
                         const ValueRequestOfBlock&, std::size_t, float*, std::size_t) {
     return 0;  // no vector path in this build: the caller shades every pair
 }
-
+#else
 std::size_t values_float_avx2(const NpfModel&, const CellMajorBases&, const BlockAnglesOf<float>&, std::size_t,
                               const std::uint8_t*, const ValueRequestOfBlock&, std::size_t, float*, std::size_t) {
     return 0;
 }
+#endif
 
 }  // namespace npf::batch_detail
 

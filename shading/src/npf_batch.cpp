@@ -36,6 +36,17 @@ struct BlockPointers {
         : view{v.x + b, v.y + b, v.z + b}, light{l.x + b, l.y + b, l.z + b} {}
 };
 
+// The float lanes' kernels are compiled with FMA (CMakeLists.txt): every AVX2 CPU made has it,
+// but they run only where the CPU reports it (elsewhere the double path shades).
+bool cpu_has_fma() {
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
+    static const bool has = __builtin_cpu_supports("fma");
+    return has;
+#else
+    return false;
+#endif
+}
+
 }  // namespace
 
 namespace batch_detail {
@@ -56,6 +67,25 @@ std::vector<float> paired_cells_of(const SpectralBasis& s, int rows, int cols, b
         for (std::size_t c = 0; c < c_count; ++c) {
             const std::size_t from = std::min(r, std::size_t(rows) - 1) * std::size_t(cols) + c % std::size_t(cols);
             for (int k = 0; k < s.rank; ++k) out[(r * c_count + c) * 4 + std::size_t(k)] = s.basis[std::size_t(k) * s.cells + from];
+        }
+    }
+    return out;
+}
+
+SpectralBasis channel_tables_of(const SpectralBasis& s, std::size_t channels) {
+    SpectralBasis out;
+    if (s.rank < 1 || channels < 1 || channels > 4) return out;
+    const std::size_t rank = std::size_t(s.rank);
+    out.rank = int(channels);
+    out.cells = s.cells;
+    out.basis.assign(channels * s.cells, 0.f);
+    out.weights.assign(channels * channels, 0.f);
+    for (std::size_t c = 0; c < channels; ++c) {
+        out.weights[c * channels + c] = 1.f;
+        for (std::size_t cell = 0; cell < s.cells; ++cell) {
+            double v = 0.0;
+            for (std::size_t k = 0; k < rank; ++k) v += double(s.weights[c * rank + k]) * double(s.basis[k * s.cells + cell]);
+            out.basis[c * s.cells + cell] = float(v);
         }
     }
     return out;
@@ -105,13 +135,14 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
     }
     const bool avx2 = simd_isa() == SimdIsa::Avx2;
     const bool vector_values = avx2 && batch_detail::vector_values_apply(m_model);
-    const bool float_lanes =
-        vector_values && m_batch_precision == BatchPrecision::Float && batch_detail::float_values_apply(m_model);
+    const bool float_lanes = vector_values && m_batch_precision == BatchPrecision::Float && cpu_has_fma() &&
+                             batch_detail::float_values_apply(m_model);
     const batch_detail::ValueRequestOfBlock block_request{stored, wavelengths, &m_wavelengths, count};
     auto data_or_null = [](const std::vector<float>& v) { return v.empty() ? nullptr : v.data(); };
     const batch_detail::CellMajorBases cell_major{data_or_null(m_cell_major_d), data_or_null(m_cell_major_g),
                                                   data_or_null(m_cell_major_detail), data_or_null(m_cell_major_f),
-                                                  data_or_null(m_channel_records)};
+                                                  data_or_null(m_channel_records), data_or_null(m_channel_d),
+                                                  data_or_null(m_channel_g), data_or_null(m_channel_detail)};
     const AngleNeeds needs = m_model.angle_needs();
     batch_detail::BlockAngles angles;
     batch_detail::BlockAnglesOf<float> float_angles;

@@ -146,6 +146,9 @@ private:
     std::vector<float> m_cell_major_f;  // F cell by cell (up to 4 channels): the stored channels' at once
     // Each channel's coefficients in eight floats (batch_values.h), for per-lane channels.
     std::vector<float> m_channel_records;
+    // D, G and the detail layer recombined channel by channel, paired like the above
+    // (batch_values.h's channel_tables_of): the float lanes' stored channels; empty past 4 channels.
+    std::vector<float> m_channel_d, m_channel_g, m_channel_detail;
     BatchPrecision m_batch_precision = BatchPrecision::Double;
 };
 
