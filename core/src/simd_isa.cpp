@@ -41,6 +41,15 @@ SimdIsa auto_isa() {
 
 }  // namespace
 
+bool cpu_has_fma() {
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
+    static const bool has = __builtin_cpu_supports("fma");
+    return has;
+#else
+    return false;
+#endif
+}
+
 bool simd_isa_supported(SimdIsa isa) { return isa != SimdIsa::Avx2 || cpu_has_avx2(); }
 
 void set_simd_isa(SimdIsa isa) {

@@ -36,17 +36,6 @@ struct BlockPointers {
         : view{v.x + b, v.y + b, v.z + b}, light{l.x + b, l.y + b, l.z + b} {}
 };
 
-// The float lanes' kernels are compiled with FMA (CMakeLists.txt): every AVX2 CPU made has it,
-// but they run only where the CPU reports it (elsewhere the double path shades).
-bool cpu_has_fma() {
-#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
-    static const bool has = __builtin_cpu_supports("fma");
-    return has;
-#else
-    return false;
-#endif
-}
-
 }  // namespace
 
 namespace batch_detail {

@@ -15,6 +15,9 @@ void set_simd_isa(SimdIsa isa);
 // overrides the CPU's answer).
 SimdIsa simd_isa();
 const char* simd_isa_name(SimdIsa isa);
+// Whether the CPU has fused multiply-add (the batched closure's float lanes are built with it and
+// run only where it is; the double kernels never use it).
+bool cpu_has_fma();
 
 // Sets an instruction set for its lifetime, then restores Auto (tests, benchmarks).
 class SimdIsaScope {
