@@ -1,7 +1,7 @@
 // Time per eval_cos call (one direction pair, all channels) on the real RGL files, and per
 // pdf and sample call. Direction pairs are drawn once, up front, so the loop times only the
 // material. Run: build/bench/npf_bench_eval [--benchmark_filter=...]
-#include <npf/converter/rgl_brdf.h>
+#include <npf/materials/rgl_brdf.h>
 #ifdef NPF_BENCH_SYNTHETIC
 #include "synthetic_rgl.h"
 #endif

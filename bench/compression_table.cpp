@@ -6,7 +6,7 @@
 //        [--pairs N] [--threads N]
 #include <npf/converter/convert.h>
 #include <npf/shading/npf_texture_file.h>
-#include <npf/converter/open_material.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_model.h>
 

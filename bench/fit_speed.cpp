@@ -7,9 +7,9 @@
 //        [--pairs N]
 //
 // SOURCE is a material file (RGL, MERL, ...) or a recipe (.yaml), fitted analytically.
-#include <npf/converter/fit/awls.h>
-#include <npf/converter/fit/fit_error.h>
-#include <npf/converter/open_material.h>
+#include <npf/fit/awls.h>
+#include <npf/fit/fit_error.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/error.h>
 
 #include <chrono>

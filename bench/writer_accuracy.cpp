@@ -8,10 +8,10 @@
 // luminance (CIE Y) of f_r cos(theta_o):
 //   relative RMS = sqrt(sum (file - source)^2 / sum source^2)
 //   max relative = max |file - source| / source over values above 1 % of the largest
-#include <npf/converter/analytic/analytic_brdf.h>
-#include <npf/converter/material_recipe.h>
-#include <npf/converter/rgl_brdf.h>
-#include <npf/converter/rgl_writer.h>
+#include <npf/materials/analytic/analytic_brdf.h>
+#include <npf/materials/material_recipe.h>
+#include <npf/materials/rgl_brdf.h>
+#include <npf/materials/rgl_writer.h>
 #include <npf/core/error.h>
 #include <npf/core/rec709_luminance.h>
 

@@ -3,7 +3,7 @@
 #include "fuzz_exercise.h"
 #include "fuzz_input_file.h"
 
-#include <npf/converter/merl_brdf.h>
+#include <npf/materials/merl_brdf.h>
 #include <npf/core/error.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -5,7 +5,7 @@
 #include "fuzz_exercise.h"
 #include "fuzz_input_file.h"
 
-#include <npf/converter/nbrdf_brdf.h>
+#include <npf/materials/nbrdf_brdf.h>
 #include <npf/core/error.h>
 
 #include <cmath>

@@ -6,7 +6,7 @@
 #include "fuzz_exercise.h"
 #include "fuzz_input_file.h"
 
-#include <npf/converter/open_material.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_texture_file.h>
 

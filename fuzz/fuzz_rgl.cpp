@@ -2,8 +2,8 @@
 // inputs it accepts, evaluation, pdf and sampling.
 #include "fuzz_exercise.h"
 
-#include <npf/converter/rgl_brdf.h>
-#include <npf/converter/tensor_file.h>
+#include <npf/materials/rgl_brdf.h>
+#include <npf/materials/tensor_file.h>
 #include <npf/core/error.h>
 
 #include <cstdint>

@@ -9,7 +9,7 @@ function(run_step what)
   set(step_output "${out}" PARENT_SCOPE)
 endfunction()
 run_step("install" ${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${WORK_DIR}/prefix")
-foreach(header npf/core/brdf.h npf/converter/rgl_brdf.h npf/converter/open_material.h
+foreach(header npf/core/brdf.h npf/materials/rgl_brdf.h npf/materials/open_material.h
                npf/shading/npf_brdf.h npf/shading/npf_texture_file.h)
   if(NOT EXISTS "${WORK_DIR}/prefix/include/${header}")
     message(FATAL_ERROR "installed tree lacks include/${header}")

@@ -5,7 +5,7 @@
 #include "npf_test_factors.h"
 
 #include <npf/converter/convert.h>
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/edit/recipe.h>
 #include <npf/shading/npf_albedo.h>

@@ -5,9 +5,9 @@
 #include "synthetic_rgl.h"
 
 #include <npf/color/spectrum.h>
-#include <npf/converter/analytic/analytic_brdf.h>
-#include <npf/converter/analytic/fresnel.h>
-#include <npf/converter/analytic/microfacet.h>
+#include <npf/materials/analytic/analytic_brdf.h>
+#include <npf/materials/analytic/fresnel.h>
+#include <npf/materials/analytic/microfacet.h>
 #include <npf/core/error.h>
 #include <npf/core/simd_isa.h>
 

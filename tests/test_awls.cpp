@@ -1,11 +1,11 @@
 // The NPF fitter (AWLS): where the model holds exactly (one microfacet lobe plus a diffuse
 // term) the fit recovers the material and its factors; at the extremes (mirror-sharp, purely
 // diffuse, one wavelength, zeros, tiny, huge and invalid values) it stays finite and sensible.
-#include <npf/converter/analytic/analytic_brdf.h>
+#include <npf/materials/analytic/analytic_brdf.h>
 #include <npf/converter/convert_settings_table.h>
-#include <npf/converter/fit/awls.h>
-#include <npf/converter/fit/fit_error.h>
-#include <npf/converter/open_material.h>
+#include <npf/fit/awls.h>
+#include <npf/fit/fit_error.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/error.h>
 #include <npf/core/simd_isa.h>
 

@@ -9,7 +9,7 @@
 #include "synthetic_rgl.h"
 
 #include <npf/batch/summary.h>
-#include <npf/converter/tensor_file.h>
+#include <npf/materials/tensor_file.h>
 
 #include <gtest/gtest.h>
 

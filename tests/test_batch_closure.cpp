@@ -5,7 +5,7 @@
 #include "npf_test_factors.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/shading/npf_batch.h>
 #include <npf/shading/npf_closure.h>
 #include <npf/core/error.h>

@@ -9,7 +9,7 @@
 #include "npf_test_factors.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/core/brdf_comparison.h>
 #include <npf/core/simd_isa.h>
 #include <npf/render/image_metrics.h>

@@ -6,10 +6,10 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/merl_brdf.h>
-#include <npf/converter/open_material.h>
-#include <npf/converter/rgl_brdf.h>
-#include <npf/converter/tensor_file.h>
+#include <npf/materials/merl_brdf.h>
+#include <npf/materials/open_material.h>
+#include <npf/materials/rgl_brdf.h>
+#include <npf/materials/tensor_file.h>
 #include <npf/core/brdf.h>
 #include <npf/core/error.h>
 #include <npf/core/openexr_header.h>

@@ -3,7 +3,7 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/analytic/analytic_brdf.h>
+#include <npf/materials/analytic/analytic_brdf.h>
 #include <npf/core/brdf_comparison.h>
 
 #include <gtest/gtest.h>

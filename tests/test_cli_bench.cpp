@@ -5,7 +5,7 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/shading/npf_texture_file.h>
 
 #include <gtest/gtest.h>

@@ -5,8 +5,8 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/analytic/analytic_brdf.h>
-#include <npf/converter/material_recipe.h>
+#include <npf/materials/analytic/analytic_brdf.h>
+#include <npf/materials/material_recipe.h>
 
 #include <gtest/gtest.h>
 

@@ -6,8 +6,8 @@
 #include "synthetic_rgl.h"
 
 #include <npf/color/spectrum.h>
-#include <npf/converter/analytic/analytic_brdf.h>
-#include <npf/converter/material_recipe.h>
+#include <npf/materials/analytic/analytic_brdf.h>
+#include <npf/materials/material_recipe.h>
 #include <npf/core/channels.h>
 #include <npf/core/vec.h>
 

@@ -5,7 +5,7 @@
 #include "synthetic_rgl.h"
 
 #include <npf/converter/convert.h>
-#include <npf/converter/rgl_brdf.h>
+#include <npf/materials/rgl_brdf.h>
 #include <npf/shading/npf_texture_file.h>
 
 #include <gtest/gtest.h>

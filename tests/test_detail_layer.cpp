@@ -7,9 +7,9 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/fit/detail_fit.h>
-#include <npf/converter/fit/rusinkiewicz.h>
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/detail_fit.h>
+#include <npf/fit/rusinkiewicz.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/edit/albedo_limit.h>
 #include <npf/edit/colour_edits.h>
 #include <npf/edit/compression.h>

@@ -7,8 +7,8 @@
 // of three or more.
 #include "npf_test_factors.h"
 
-#include <npf/converter/fit/npf_factors.h>
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/npf_factors.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/core/brdf.h>
 #include <npf/core/vec.h>
 #include <npf/shading/npf_brdf.h>

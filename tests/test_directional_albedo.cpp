@@ -7,9 +7,9 @@
 #include "npf_test_factors.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/analytic/analytic_brdf.h>
-#include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/open_material.h>
+#include <npf/materials/analytic/analytic_brdf.h>
+#include <npf/fit/spectral_compression.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_brdf.h>

@@ -4,7 +4,7 @@
 // push the albedo above 1 are reported.
 #include "npf_test_factors.h"
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/shading/npf_albedo.h>
 #include <npf/edit/recipe.h>
 

@@ -7,7 +7,7 @@
 #include "synthetic_rgl.h"
 
 #include <npf/converter/convert.h>
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/core/error.h>
 #include <npf/edit/albedo_limit.h>
 #include <npf/edit/recipe.h>

@@ -5,7 +5,7 @@
 
 #include <npf/color/rgb_sigmoid.h>
 #include <npf/color/spectrum.h>
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/core/error.h>
 #include <npf/edit/colour_edits.h>
 

@@ -2,7 +2,7 @@
 // compression of the same fit gives.
 #include "npf_test_factors.h"
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/edit/compression.h>
 #include <npf/edit/recipe.h>
 

@@ -4,7 +4,7 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/yaml_context.h>
+#include <npf/materials/yaml_context.h>
 #include <npf/core/error.h>
 #include <npf/edit/edit_kinds.h>
 #include <npf/edit/recipe.h>

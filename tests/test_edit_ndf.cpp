@@ -5,7 +5,7 @@
 // the input's rank.
 #include "npf_test_factors.h"
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/core/error.h>
 #include <npf/edit/ndf_transform.h>
 #include <npf/shading/npf_model.h>

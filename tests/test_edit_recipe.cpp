@@ -4,7 +4,7 @@
 #include "npf_test_factors.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/core/error.h>
 #include <npf/edit/recipe.h>
 #include <npf/shading/npf_texture_file.h>

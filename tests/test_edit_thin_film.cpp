@@ -4,9 +4,9 @@
 // materials get the film's colour.
 #include "npf_test_factors.h"
 
-#include <npf/converter/analytic/fresnel.h>
-#include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/material_recipe.h>
+#include <npf/materials/analytic/fresnel.h>
+#include <npf/fit/spectral_compression.h>
+#include <npf/materials/material_recipe.h>
 #include <npf/core/error.h>
 #include <npf/edit/recipe.h>
 #include <npf/edit/thin_film.h>

@@ -2,7 +2,7 @@
 // wavelengths, SVD ranks 8 and 6), timed, with the invariants checked at that size.
 #include "npf_test_factors.h"
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/shading/npf_albedo.h>
 #include <npf/edit/colour_edits.h>
 #include <npf/edit/ndf_transform.h>

@@ -8,7 +8,7 @@
 #include "npf_test_factors.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 
 #include <gtest/gtest.h>
 

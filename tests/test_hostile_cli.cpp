@@ -8,9 +8,9 @@
 #include "synthetic_rgl.h"
 
 #include <npf/converter/convert.h>
-#include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/open_material.h>
-#include <npf/converter/rgl_brdf.h>
+#include <npf/fit/spectral_compression.h>
+#include <npf/materials/open_material.h>
+#include <npf/materials/rgl_brdf.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_texture_file.h>
 

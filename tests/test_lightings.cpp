@@ -6,7 +6,7 @@
 
 #include <npf/converter/convert.h>
 #include <npf/converter/psnr_prediction.h>
-#include <npf/converter/rgl_brdf.h>
+#include <npf/materials/rgl_brdf.h>
 #include <npf/core/error.h>
 #include <npf/render/image_metrics.h>
 #include <npf/render/lighting.h>

@@ -3,8 +3,8 @@
 // for files no format claims.
 #include "synthetic_rgl.h"
 
-#include <npf/converter/material_formats.h>
-#include <npf/converter/open_material.h>
+#include <npf/materials/material_formats.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/error.h>
 
 #include <gtest/gtest.h>

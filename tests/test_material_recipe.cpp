@@ -1,14 +1,14 @@
-// Material recipes (npf/converter/material_recipe.h): the shipped recipes in configs/materials/,
+// Material recipes (npf/materials/material_recipe.h): the shipped recipes in configs/materials/,
 // every spectrum and Fresnel form of the recipe language, the errors (which name "file:line",
 // the key and the problem), and the helpers the `npf synth` flags share with the recipes
 // (spectrum_from_text, conductor_fresnel).
 #include "synthetic_rgl.h"
 
 #include <npf/color/spectrum.h>
-#include <npf/converter/analytic/analytic_brdf.h>
-#include <npf/converter/analytic/fresnel.h>
-#include <npf/converter/data_files.h>
-#include <npf/converter/material_recipe.h>
+#include <npf/materials/analytic/analytic_brdf.h>
+#include <npf/materials/analytic/fresnel.h>
+#include <npf/materials/data_files.h>
+#include <npf/materials/material_recipe.h>
 #include <npf/core/error.h>
 
 #include <gtest/gtest.h>

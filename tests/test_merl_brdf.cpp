@@ -4,7 +4,7 @@
 // geometry written independently of the reader.
 #include "merl_writer.h"
 
-#include <npf/converter/merl_brdf.h>
+#include <npf/materials/merl_brdf.h>
 #include <npf/core/error.h>
 
 #include <chi2.h>

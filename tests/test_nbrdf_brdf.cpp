@@ -3,8 +3,8 @@
 // come from a forward pass and Rusinkiewicz geometry written independently of the reader (angles
 // and Rodrigues rotations in double), or by hand for a network built to expose the direction
 // convention. The real networks are checked against the RGL files they were trained from.
-#include <npf/converter/nbrdf_brdf.h>
-#include <npf/converter/open_material.h>
+#include <npf/materials/nbrdf_brdf.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/error.h>
 
 #include <error_of.h>

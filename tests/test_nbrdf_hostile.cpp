@@ -5,7 +5,7 @@
 // attribute that claims gigabytes, weights whose combination overflows. Every test but the last
 // two failed on the reader before the checks it exercises (the plain reader read the other file,
 // the FIFO, the plugin's absence as damage, and accepted the overflowing networks).
-#include <npf/converter/nbrdf_brdf.h>
+#include <npf/materials/nbrdf_brdf.h>
 #include <npf/core/error.h>
 
 #include <error_of.h>

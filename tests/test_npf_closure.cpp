@@ -7,8 +7,8 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/fit/npf_factors.h>
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/npf_factors.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/shading/npf_texture_file.h>
 #include <npf/core/error.h>
 #include <npf/shading/alias_table.h>

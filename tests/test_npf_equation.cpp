@@ -2,8 +2,8 @@
 // fitter's tables (NpfFactors), the stored model (NpfModel) and the edits' G closing agree on
 // them at the places where a second copy would drift first: cell centres, the last half cell
 // before the horizon, and the clamps.
-#include <npf/converter/fit/npf_factors.h>
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/npf_factors.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/shading/npf_equation.h>
 #include <npf/shading/npf_model.h>
 

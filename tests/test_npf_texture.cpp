@@ -6,8 +6,8 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/open_material.h>
+#include <npf/fit/spectral_compression.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_brdf.h>
 #include <npf/shading/npf_texture_file.h>

@@ -7,9 +7,9 @@
 #include "synthetic_rgl.h"
 
 #include <npf/batch/config.h>
-#include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/material_recipe.h>
-#include <npf/converter/open_material.h>
+#include <npf/fit/spectral_compression.h>
+#include <npf/materials/material_recipe.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_texture_file.h>

@@ -4,7 +4,7 @@
 #include "chi2.h"
 
 #include <npf/color/spectrum.h>
-#include <npf/converter/analytic/analytic_brdf.h>
+#include <npf/materials/analytic/analytic_brdf.h>
 #include <npf/core/cosine_sampling.h>
 #include <npf/core/error.h>
 #include <npf/render/environment_map.h>

@@ -5,9 +5,9 @@
 
 #include "synthetic_rgl.h"
 
-#include <npf/converter/open_material.h>
-#include <npf/converter/rgl_brdf.h>
-#include <npf/converter/tensor_file.h>
+#include <npf/materials/open_material.h>
+#include <npf/materials/rgl_brdf.h>
+#include <npf/materials/tensor_file.h>
 #include <npf/core/error.h>
 
 #include <gtest/gtest.h>

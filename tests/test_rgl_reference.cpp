@@ -9,7 +9,7 @@
 #include "naive_rgl.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/rgl_brdf.h>
+#include <npf/materials/rgl_brdf.h>
 #include <npf/core/brdf.h>
 #include <npf/core/channels.h>
 #include <npf/core/vec.h>

@@ -4,7 +4,7 @@
 #include "chi2.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/rgl_brdf.h>
+#include <npf/materials/rgl_brdf.h>
 
 #include <gtest/gtest.h>
 

@@ -4,12 +4,12 @@
 #include "chi2.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/analytic/analytic_brdf.h>
-#include <npf/converter/material_recipe.h>
-#include <npf/converter/piecewise_linear_2d.h>
-#include <npf/converter/rgl_brdf.h>
-#include <npf/converter/rgl_writer.h>
-#include <npf/converter/tensor_file.h>
+#include <npf/materials/analytic/analytic_brdf.h>
+#include <npf/materials/material_recipe.h>
+#include <npf/materials/piecewise_linear_2d.h>
+#include <npf/materials/rgl_brdf.h>
+#include <npf/materials/rgl_writer.h>
+#include <npf/materials/tensor_file.h>
 #include <npf/core/error.h>
 
 #include <gtest/gtest.h>

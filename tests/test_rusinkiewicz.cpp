@@ -1,5 +1,5 @@
 // The fitter's geometry: Rusinkiewicz half/difference angles and the grid's volume weight.
-#include <npf/converter/fit/rusinkiewicz.h>
+#include <npf/fit/rusinkiewicz.h>
 #include <npf/core/vec.h>
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // ranks as documented, and the compressed model evaluates as the factors do.
 #include "npf_test_factors.h"
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_brdf.h>
 #include <npf/shading/detail_grid.h>

@@ -3,7 +3,7 @@
 // kind of recipe into the other means the same thing.
 #include "synthetic_rgl.h"
 
-#include <npf/converter/material_recipe.h>
+#include <npf/materials/material_recipe.h>
 #include <npf/core/error.h>
 #include <npf/edit/recipe.h>
 

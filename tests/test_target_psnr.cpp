@@ -8,7 +8,7 @@
 
 #include <npf/batch/config.h>
 #include <npf/converter/convert.h>
-#include <npf/converter/rgl_brdf.h>
+#include <npf/materials/rgl_brdf.h>
 #include <npf/core/error.h>
 #include <npf/render/default_environment.h>
 #include <npf/render/image_metrics.h>

@@ -8,11 +8,11 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
-#include <npf/converter/analytic/analytic_brdf.h>
+#include <npf/materials/analytic/analytic_brdf.h>
 #include <npf/converter/convert.h>
-#include <npf/converter/fit/spectral_compression.h>
-#include <npf/converter/open_material.h>
-#include <npf/converter/rgl_brdf.h>
+#include <npf/fit/spectral_compression.h>
+#include <npf/materials/open_material.h>
+#include <npf/materials/rgl_brdf.h>
 #include <npf/core/brdf.h>
 #include <npf/core/error.h>
 #include <npf/shading/npf_brdf.h>

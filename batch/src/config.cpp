@@ -9,7 +9,7 @@
 #include <npf/core/text_input.h>
 
 #include <npf/converter/convert_settings_table.h>
-#include <npf/converter/yaml_context.h>
+#include <npf/materials/yaml_context.h>
 #include <npf/render/lighting.h>
 
 #include <yaml-cpp/yaml.h>

@@ -9,8 +9,8 @@
 #include <npf/core/text_input.h>
 #include <npf/converter/convert.h>
 #include <npf/converter/convert_settings_table.h>
-#include <npf/converter/open_material.h>
-#include <npf/converter/yaml_context.h>
+#include <npf/materials/open_material.h>
+#include <npf/materials/yaml_context.h>
 #include <npf/core/error.h>
 #include <npf/core/version.h>
 #include <npf/core/text.h>

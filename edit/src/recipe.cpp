@@ -2,7 +2,7 @@
 // which reads its value.
 #include <npf/edit/recipe.h>
 
-#include <npf/converter/yaml_context.h>
+#include <npf/materials/yaml_context.h>
 #include <npf/core/error.h>
 #include <npf/core/text_input.h>
 #include <npf/core/input_file.h>

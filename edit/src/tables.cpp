@@ -3,8 +3,8 @@
 #include <npf/core/number_text.h>
 #include <npf/color/rgb_sigmoid.h>
 #include <npf/color/spectrum.h>
-#include <npf/converter/fit/npf_factors.h>
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/npf_factors.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/core/vec.h>
 #include <npf/shading/npf_equation.h>
 

@@ -2,7 +2,7 @@
 // the SVD bases, re-compression, and moving per-channel quantities between channel sets.
 #pragma once
 
-#include <npf/converter/fit/npf_factors.h>
+#include <npf/fit/npf_factors.h>
 #include <npf/core/channels.h>
 #include <npf/edit/edit_record.h>
 #include <npf/edit/ndf_transform.h>

@@ -2,7 +2,7 @@
 
 #include "tables.h"
 
-#include <npf/converter/analytic/fresnel.h>
+#include <npf/materials/analytic/fresnel.h>
 #include <npf/core/error.h>
 #include <npf/core/number_text.h>
 #include <npf/core/vec.h>

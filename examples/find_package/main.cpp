@@ -1,5 +1,5 @@
 // Opens a material through an installed npf and prints f_r cos at normal incidence.
-#include <npf/converter/open_material.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/error.h>
 
 #include <cstdio>

@@ -1,6 +1,6 @@
 #include "material_arrays.h"
 
-#include <npf/converter/open_material.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/error.h>
 #include <npf/core/parallel.h>
 #include <npf/core/vec.h>

@@ -1,7 +1,7 @@
 // Naive reference evaluation of RGL files; see naive_rgl.h. Written from rgl-format.md only.
 #include "naive_rgl.h"
 
-#include <npf/converter/tensor_file.h>
+#include <npf/materials/tensor_file.h>
 
 #include <algorithm>
 #include <cmath>

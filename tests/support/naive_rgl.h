@@ -1,6 +1,6 @@
 // A deliberately simple, slow, double-precision re-implementation of the RGL measured-BRDF
 // algorithm, written from the published description (docs: rgl-format.md, secs. 0 to 8) and
-// NOT from the project's reader (converter/src/rgl_brdf.cpp, piecewise_linear_2d.cpp). It
+// NOT from the project's reader (materials/src/rgl_brdf.cpp, piecewise_linear_2d.cpp). It
 // exists only so that tests can check the reader against an independent evaluation.
 //
 // Everything is written for obviousness, not speed: parameter blends loop explicitly over

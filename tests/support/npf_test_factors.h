@@ -4,7 +4,7 @@
 // enforced: nothing here depends on it).
 #pragma once
 
-#include <npf/converter/fit/npf_factors.h>
+#include <npf/fit/npf_factors.h>
 
 #include <cstddef>
 

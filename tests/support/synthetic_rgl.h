@@ -5,7 +5,7 @@
 // the converter's RGL writer); only structurally what every reference reader accepts.
 #pragma once
 
-#include <npf/converter/tensor_file.h>
+#include <npf/materials/tensor_file.h>
 
 #include <cstdint>
 #include <string>

@@ -7,7 +7,7 @@
 #include "commands.h"
 
 #include <npf/color/spectrum.h>
-#include <npf/converter/open_material.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/directional_albedo.h>
 #include <npf/core/error.h>
 #include <npf/core/json_text.h>

@@ -6,7 +6,7 @@
 
 #include <npf/converter/convert.h>
 #include <npf/converter/convert_settings_table.h>
-#include <npf/converter/open_material.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 

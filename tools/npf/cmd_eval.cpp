@@ -4,7 +4,7 @@
 #include "command_line.h"
 #include "commands.h"
 
-#include <npf/converter/open_material.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/brdf_comparison.h>
 #include <npf/core/error.h>
 #include <npf/core/input_file.h>

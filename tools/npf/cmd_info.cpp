@@ -3,7 +3,7 @@
 #include "command_line.h"
 #include "commands.h"
 
-#include <npf/converter/open_material.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/number_text.h>
 #include <npf/core/error.h>
 #include <npf/core/text.h>

@@ -9,7 +9,7 @@
 
 #include <npf/color/display.h>
 #include <npf/color/display_image.h>
-#include <npf/converter/open_material.h>
+#include <npf/materials/open_material.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/channels.h>
 #include <npf/core/error.h>

@@ -7,10 +7,10 @@
 #include "file_uses.h"
 #include "progress.h"
 
-#include <npf/converter/data_files.h>
-#include <npf/converter/material_recipe.h>
-#include <npf/converter/open_material.h>
-#include <npf/converter/rgl_writer.h>
+#include <npf/materials/data_files.h>
+#include <npf/materials/material_recipe.h>
+#include <npf/materials/open_material.h>
+#include <npf/materials/rgl_writer.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
 

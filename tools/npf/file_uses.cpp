@@ -1,6 +1,6 @@
 #include "file_uses.h"
 
-#include <npf/converter/yaml_context.h>
+#include <npf/materials/yaml_context.h>
 #include <npf/core/text.h>
 
 namespace npf::cli {

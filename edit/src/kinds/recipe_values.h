@@ -3,7 +3,7 @@
 #pragma once
 
 #include <npf/color/spectrum.h>
-#include <npf/converter/yaml_context.h>
+#include <npf/materials/yaml_context.h>
 
 #include <yaml-cpp/yaml.h>
 

@@ -5,7 +5,7 @@
 
 #include "../tables.h"
 
-#include <npf/converter/data_files.h>
+#include <npf/materials/data_files.h>
 #include <npf/core/error.h>
 #include <npf/core/number_text.h>
 #include <npf/edit/edit_kinds.h>

@@ -3,10 +3,10 @@
 // batch runner call; the presets are the speed/accuracy trade-offs measured in docs/fitting.md.
 #pragma once
 
-#include <npf/converter/fit/awls.h>
-#include <npf/converter/fit/detail_fit.h>
-#include <npf/converter/fit/fit_error.h>
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/awls.h>
+#include <npf/fit/detail_fit.h>
+#include <npf/fit/fit_error.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/converter/psnr_prediction.h>
 #include <npf/core/brdf.h>
 #include <npf/core/brdf_comparison.h>

@@ -5,7 +5,7 @@
 // second instead of a refit; from an already compressed file it can only lower the rank.
 #pragma once
 
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/edit/edit_record.h>
 #include <npf/shading/npf_model.h>
 

@@ -3,7 +3,7 @@
 #pragma once
 
 #include <npf/color/spectrum.h>
-#include <npf/converter/fit/spectral_compression.h>
+#include <npf/fit/spectral_compression.h>
 #include <npf/edit/ndf_transform.h>
 #include <npf/edit/thin_film.h>
 

@@ -1,6 +1,6 @@
 // Thin-film Fresnel edit (paper sec. 4.3.4): a dielectric film (thickness d, index eta_2) on the
 // material, by the Airy reflectance of air / film / base (Belcour & Barla 2017; the exact
-// complex-amplitude form of npf/converter/analytic/fresnel.h).
+// complex-amplitude form of npf/materials/analytic/fresnel.h).
 //
 // Let K(theta_d) = rho_s F(theta_d) be the material's specular colour and R_film, R_bare the
 // Airy reflectance with the film and without it (d = 0, the bare base). Two modes:
