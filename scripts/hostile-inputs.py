@@ -137,12 +137,12 @@ class Catalogue:
         return sorted(set(os.listdir(folder)) - set(keep))
 
 
-def issue_33_cases(c, good, raw):
-    """Issue 33's classes: what a material can produce, bounded text, outputs that alias inputs,
-    loose validation, names that split lines (docs/reliability.md sec. 4)."""
-    p = c.path
-    nothing = lambda: None  # noqa: E731
+def nothing():
+    return None
 
+
+def bounded_text_cases(c, p, good, raw, small):
+    """Bounded text: inputs far larger than any material. Returns a small factor texture the later cases use."""
     # Bounded text.
     zeros = p("zeros.txt")
     open(zeros, "wb").close()
@@ -154,7 +154,11 @@ def issue_33_cases(c, good, raw):
     big_recipe = p("big.yaml")
     c.case("a 2 MiB recipe of zeros", "npf info big.yaml",
            lambda: (open(big_recipe, "wb").close(), os.truncate(big_recipe, 2 << 20)), ["info", big_recipe], 1, timeout=60)
+    return small
 
+
+def material_product_cases(c, p, good, raw, small):
+    """What a material can produce: products of tables each under the value cap, needles, huge grids."""
     # What a material can produce: products of tables each under the 1e12 cap.
     copper = p("copper.exr")
     subprocess.run([c.npf, "convert", "configs/materials/brushed_copper.yaml", "-o", copper, "--preset", "preview",
@@ -193,6 +197,9 @@ def issue_33_cases(c, good, raw):
            ["synth", "--recipe", griddy, "-o", p("g.bsdf")], 1, lambda s: not os.path.exists(p("g.bsdf")), timeout=120,
            memory_gib=8)
 
+
+def aliased_output_cases(c, p, good, raw, small):
+    """Outputs against each other and the inputs."""
     # Outputs against each other and the inputs.
     m = p("alias.exr")
     def fresh_alias():
@@ -210,6 +217,9 @@ def issue_33_cases(c, good, raw):
     c.case("a conversion onto a hard link of its input", "npf convert m.exr -o hard.exr", fresh_alias,
            ["convert", m, "-o", p("hard.exr"), "--preset", "preview", "--no-predict"], 1, intact)
 
+
+def strict_validation_cases(c, p, good, raw, small):
+    """Loose validation made strict: RGL fields out of their contract."""
     # Loose validation made strict.
     def set_u8(name, value):
         def edit(fields):
@@ -233,6 +243,10 @@ def issue_33_cases(c, good, raw):
                              ("an RGL file with both rgb and spectra", "both.bsdf", rgb_and_spectra)]:
         f = p(name)
         c.case(what, "npf info " + name, lambda f=f, edit=edit: open(f, "wb").write(patched_rgl(raw, edit)), ["info", f], 1)
+
+
+def image_name_cases(c, p, good, raw, small):
+    """Images npf reads as data: regular files of a format known by its first bytes."""
     # Images npf reads as data: regular files of a format known by its first bytes.
     fifo_env = p("env_fifo.exr")
     c.case("a FIFO as the environment map", "npf render m.exr --env fifo.exr",
@@ -243,6 +257,10 @@ def issue_33_cases(c, good, raw):
            lambda: open(null_env, "wb").close(),
            ["render", small, "-o", p("e.exr"), "--env", null_env, "--size", "8", "--spp", "1", "--quiet"], 1, timeout=60,
            memory_gib=8)
+
+
+def nbrdf_link_cases(c, p, good, raw, small):
+    """Neural BRDF files that would make npf read other files (fuzz/corpus/nbrdf/, made with HDF5)."""
     # Neural BRDF files that would make npf read other files (fuzz/corpus/nbrdf/, made with HDF5).
     corpus = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "fuzz", "corpus", "nbrdf")
     for what, name in [("a Neural BRDF file whose kernel is stored in ../../etc/hostname (external storage)", "external_storage.h5"),
@@ -254,6 +272,9 @@ def issue_33_cases(c, good, raw):
         c.case(what, "npf info " + name, lambda f=f, name=name: shutil.copy(os.path.join(corpus, name), f), ["info", f], 1,
                timeout=30)
 
+
+def colour_config_cases(c, p, good, raw, small):
+    """Colour configurations: refused, not crashed or hung on."""
     # Colour configurations: refused, not crashed or hung on.
     scene = p("scene.exr")
     subprocess.run([c.npf, "render", small, "-o", scene, "--size", "8", "--spp", "1", "--quiet"], check=True)
@@ -307,6 +328,9 @@ def issue_33_cases(c, good, raw):
            lambda: ocio_config("outside", "", "../secret.cube", outside_lut),
            ["display", scene, "-o", png, "--config", outside], 1, no_png, timeout=30)
 
+
+def batch_place_cases(c, p, good, raw, small):
+    """The batch's own places, and its outputs against its inputs; a name that splits lines."""
     # The batch's own places, and its outputs against its inputs.
     def batch_folder(name, output_link=False):
         root = p(name)
@@ -333,6 +357,19 @@ def issue_33_cases(c, good, raw):
            lambda: batch_folder("aliased", output_link=True), ["batch", p("aliased/b.yaml"), "--quiet"], 1, input_intact)
     odd = p("two\nlines.bsdf")
     c.case("a newline in a file name", "npf info 'two\\nlines.bsdf'", lambda: open(odd, "wb").write(b"junk"), ["info", odd], 1)
+
+
+def issue_33_cases(c, good, raw):
+    """Issue 33's classes: what a material can produce, bounded text, outputs that alias inputs,
+    loose validation, names that split lines (docs/reliability.md sec. 4)."""
+    small = bounded_text_cases(c, c.path, good, raw, None)
+    material_product_cases(c, c.path, good, raw, small)
+    aliased_output_cases(c, c.path, good, raw, small)
+    strict_validation_cases(c, c.path, good, raw, small)
+    image_name_cases(c, c.path, good, raw, small)
+    nbrdf_link_cases(c, c.path, good, raw, small)
+    colour_config_cases(c, c.path, good, raw, small)
+    batch_place_cases(c, c.path, good, raw, small)
 
 
 def main():
@@ -400,7 +437,6 @@ def main():
     before = open(small, "rb").read() if os.path.exists(small) else b""
     status, msg = c.run(["convert", good, "-o", small, "--preset", "production", "--no-predict"], fsize_kib=16)
     after = open(small, "rb").read() if os.path.exists(small) else b""
-    left = c.leftovers(work, os.listdir(work))
     c.row("a full disk (writes beyond 16 KiB fail) over an earlier output", "npf convert ILM -o small.exr", 1, status, msg,
           after == before and before != b"", "earlier output %s" % ("intact" if after == before else "LOST"))
     status, msg = c.run(["convert", good, "-o", "/dev/null", "--preset", "preview", "--no-predict"])
