@@ -4,7 +4,6 @@
 // of a zero decides between the first and last phi_d bin.
 #include <npf/core/cosine_sampling.h>
 #include <npf/core/text.h>
-#include <npf/materials/material_formats.h>
 #include <npf/materials/merl_brdf.h>
 
 #include <npf/core/error.h>
@@ -428,19 +427,6 @@ float MerlBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
 bool MerlBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
                       float* weight) const {
     return sample_cosine_hemisphere(*this, wi, u, query, s, weight);
-}
-
-// MERL files by their size, or files that say they are one (their name, or a plausible header)
-// whose size is wrong: the loader then says it is truncated or has trailing bytes.
-MaterialFormat merl_material_format() {
-    MaterialFormat f;
-    f.described_as = "a MERL .binary";
-    f.claims_file = [](const MaterialFileHead& h) {
-        return MerlBrdf::looks_like_merl(h.bytes, h.count, h.size) || MerlBrdf::has_plausible_header(h.bytes, h.count, h.size) ||
-               ends_with(h.path, ".binary");
-    };
-    f.open = [](const std::string& path) -> std::unique_ptr<Brdf> { return MerlBrdf::load(path); };
-    return f;
 }
 
 }  // namespace npf

@@ -1,7 +1,6 @@
 // Neural BRDF reader and evaluator. The weights are read once with the HDF5 C API; evaluation is
 // a float forward pass over arrays on the stack, so eval never touches HDF5 and never allocates.
 #include <npf/materials/nbrdf_brdf.h>
-#include <npf/materials/material_formats.h>
 
 #include <npf/core/number_text.h>
 #include <npf/core/cosine_sampling.h>
@@ -841,18 +840,6 @@ float NbrdfBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
 bool NbrdfBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
                        float* weight) const {
     return sample_cosine_hemisphere(*this, wi, u, query, s, weight);
-}
-
-// Any HDF5 file, or any file named like one, is taken for a Neural BRDF network: the reader says
-// what is missing (or that it is not HDF5 at all).
-MaterialFormat nbrdf_material_format() {
-    MaterialFormat f;
-    f.described_as = "a Neural BRDF .h5";
-    f.claims_file = [](const MaterialFileHead& h) {
-        return NbrdfBrdf::has_hdf5_signature(h.bytes, h.count) || ends_with(h.path, ".h5") || ends_with(h.path, ".hdf5");
-    };
-    f.open = [](const std::string& path) -> std::unique_ptr<Brdf> { return NbrdfBrdf::load(path); };
-    return f;
 }
 
 }  // namespace npf

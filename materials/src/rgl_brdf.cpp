@@ -1,5 +1,4 @@
 #include <npf/core/clamp.h>
-#include <npf/materials/material_formats.h>
 #include <npf/materials/rgl_brdf.h>
 #include "rgl_u_space.h"
 #include <npf/core/brdf.h>
@@ -477,15 +476,6 @@ bool RglBrdf::sample(const Vec3& wi_in, const Vec2& u, const ChannelQuery& query
         for (std::size_t k = 0; k < query.size(); ++k) weight[k] *= factor;
     }
     return true;
-}
-
-// RGL's tensor files (docs/rgl-format.md), by their magic.
-MaterialFormat rgl_material_format() {
-    MaterialFormat f;
-    f.described_as = "an RGL tensor_file";
-    f.claims_file = [](const MaterialFileHead& h) { return TensorFile::has_magic(h.bytes, h.count); };
-    f.open = [](const std::string& path) -> std::unique_ptr<Brdf> { return RglBrdf::load(path); };
-    return f;
 }
 
 }  // namespace npf
