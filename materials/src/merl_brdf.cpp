@@ -2,7 +2,6 @@
 // Matusik et al.) operation for operation in double, including its vector rotations, so that
 // bin choices agree with it even at bin edges and for in-plane configurations, where the sign
 // of a zero decides between the first and last phi_d bin.
-#include <npf/core/cosine_sampling.h>
 #include <npf/core/text.h>
 #include <npf/materials/merl_brdf.h>
 
@@ -412,21 +411,6 @@ void MerlBrdf::eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& quer
         if (query.clamp_negative && v < 0.0) v = 0.0;
         out[k] = static_cast<float>(v);
     }
-}
-
-// ---- Sampling ----------------------------------------------------------------------------
-// MERL files carry no importance-sampling data and the isotropic half/difference table does
-// not invert cheaply, so wo is drawn cosine-weighted over the hemisphere: it is exact for the
-// diffuse part, never zero where the BRDF is not, and pdf/sample stay trivially consistent.
-
-float MerlBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
-    if (!(wi.z > 0.f) || !(wo.z > 0.f)) return 0.f;
-    return wo.z * (1.f / kPi);
-}
-
-bool MerlBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
-                      float* weight) const {
-    return sample_cosine_hemisphere(*this, wi, u, query, s, weight);
 }
 
 }  // namespace npf
