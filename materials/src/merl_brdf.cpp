@@ -318,15 +318,9 @@ std::unique_ptr<MerlBrdf> MerlBrdf::load(const std::string& path, MerlOptions op
     // with it f_r cos(theta_i) cos(theta_o); each value is already under the cap.
     double largest = 0.0;
     for (double v : fr) largest = std::max(largest, std::fabs(v));
+    brdf->describe_rgb_file("merl", path, file_size);
     BrdfInfo& info = brdf->m_info;
     info.value_bound = largest;
-    info.format = "merl";
-    info.path = path;
-    // MERL files carry no description; the material's name is the file name.
-    info.description = std::filesystem::path(path).stem().string();
-    info.isotropic = true;
-    info.channels = Channels::rgb();
-    info.file_bytes = file_size;
     info.details = {
         {"grid", dims_text(n_th, n_td, n_pd) + " (theta_h x theta_d x phi_d)"},
         {"lookup", opts.lookup == MerlLookup::Nearest ? "nearest" : "linear"},
@@ -400,17 +394,7 @@ void MerlBrdf::eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& quer
     else
         lookup_linear(in, outv, rgb);
 
-    const double cos_o = wo.z;
-    for (std::size_t k = 0; k < n; ++k) {
-        const std::uint32_t i0 = query.index0[k], i1 = query.index1[k];
-        const double w1 = query.weight1[k];
-        const double a = i0 < kChannelCount ? rgb[i0] : 0.0;
-        const double b = i1 < kChannelCount ? rgb[i1] : 0.0;
-        double v = (w1 == 0.0 ? a : (1.0 - w1) * a + w1 * b) * cos_o;
-        if (!std::isfinite(v)) v = 0.0;  // unreachable for unit inputs; never emit NaN
-        if (query.clamp_negative && v < 0.0) v = 0.0;
-        out[k] = static_cast<float>(v);
-    }
+    write_rgb_query(rgb, double(wo.z), query, out);  // in double: Nearest is the reference reader's bins
 }
 
 }  // namespace npf

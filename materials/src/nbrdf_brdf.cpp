@@ -178,14 +178,8 @@ std::unique_ptr<NbrdfBrdf> NbrdfBrdf::load(const std::string& path) {
 
     const int n1 = brdf->m_layers[0].units, n2 = brdf->m_layers[1].units;
     const int weights = (kInputs + 1) * n1 + (n1 + 1) * n2 + (n2 + 1) * kOutputs;
+    brdf->describe_rgb_file("nbrdf", path, file_size);
     BrdfInfo& info = brdf->m_info;
-    info.format = "nbrdf";
-    info.path = path;
-    // The networks carry no description; the material's name is the file name.
-    info.description = std::filesystem::path(path).stem().string();
-    info.isotropic = true;
-    info.channels = Channels::rgb();
-    info.file_bytes = file_size;
     info.value_bound = bound.value;
     info.details = {
         {"network", "6 -> " + std::to_string(n1) + " (ReLU) -> " + std::to_string(n2) +
@@ -242,20 +236,9 @@ void NbrdfBrdf::eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& que
     float input[kInputs], rgb[kOutputs];
     network_input(wi, wo, input);
     forward(input, rgb);
-    const float cos_o = wo.z;
-    for (std::size_t k = 0; k < n; ++k) {
-        const std::uint32_t i0 = query.index0[k], i1 = query.index1[k];
-        const float w1 = query.weight1[k];
-        const float a = i0 < kOutputs ? rgb[i0] : 0.f;
-        const float b = i1 < kOutputs ? rgb[i1] : 0.f;
-        float v = (w1 == 0.f ? a : (1.f - w1) * a + w1 * b) * cos_o;
-        // The value bound keeps every output of an accepted network finite for unit directions;
-        // this catches arguments that are not unit vectors (lengths that overflow or vanish).
-        if (!std::isfinite(v)) v = 0.f;
-        // exp(x) - 1 dips below 0 where the network undershoots a black region.
-        if (query.clamp_negative && v < 0.f) v = 0.f;
-        out[k] = v;
-    }
+    // exp(x) - 1 dips below 0 where the network undershoots a black region (clamped when the query
+    // asks); the value bound keeps every output finite for unit directions.
+    write_rgb_query(rgb, wo.z, query, out);
 }
 
 }  // namespace npf

@@ -11,7 +11,7 @@
 // because the data are reciprocal.
 #pragma once
 
-#include <npf/materials/cosine_sampled_brdf.h>
+#include <npf/materials/isotropic_rgb_brdf.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -35,7 +35,7 @@ constexpr double kMerlScaleRed = 1.0 / 1500.0;
 constexpr double kMerlScaleGreen = 1.15 / 1500.0;
 constexpr double kMerlScaleBlue = 1.66 / 1500.0;
 
-class MerlBrdf final : public CosineSampledBrdf {
+class MerlBrdf final : public IsotropicRgbBrdf {
 public:
     // Throws npf::Error naming the file and the problem (missing, directory, empty, truncated,
     // bad dimensions, non-finite values).

@@ -14,7 +14,7 @@
 // does with Mitsuba's bRec.wo.
 #pragma once
 
-#include <npf/materials/cosine_sampled_brdf.h>
+#include <npf/materials/isotropic_rgb_brdf.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -24,7 +24,7 @@
 
 namespace npf {
 
-class NbrdfBrdf final : public CosineSampledBrdf {
+class NbrdfBrdf final : public IsotropicRgbBrdf {
 public:
     // Widest hidden layer accepted: evaluation keeps the activations on the stack.
     static constexpr int kMaxHiddenUnits = 256;
