@@ -2,6 +2,8 @@
 
 #include <npf/core/cosine_sampling.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 namespace npf {
@@ -14,6 +16,13 @@ float IsotropicRgbBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
 bool IsotropicRgbBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
                               float* weight) const {
     return sample_cosine_hemisphere(*this, wi, u, query, s, weight);
+}
+
+bool IsotropicRgbBrdf::evaluable(const Vec3& wi, const Vec3& wo, const ChannelQuery& query, float* out) {
+    const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    if (wi.z > 0.f && wo.z > 0.f && finite(wi) && finite(wo)) return true;
+    std::fill(out, out + query.size(), 0.f);
+    return false;
 }
 
 void IsotropicRgbBrdf::describe_rgb_file(const std::string& format, const std::string& path, std::uint64_t file_bytes) {

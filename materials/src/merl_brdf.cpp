@@ -206,10 +206,6 @@ AxisBlend periodic_blend(double coord, int n) {
     return b;
 }
 
-bool all_finite(const Vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
 }  // namespace
 
 // ---- Loading -----------------------------------------------------------------------------
@@ -380,12 +376,7 @@ void MerlBrdf::lookup_linear(const double in[3], const double out[3], double rgb
 
 void MerlBrdf::eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& query,
                         float* out) const {
-    const std::size_t n = query.size();
-    // One-sided material; the tests also reject NaN directions.
-    if (!(wi.z > 0.f) || !(wo.z > 0.f) || !all_finite(wi) || !all_finite(wo)) {
-        std::fill(out, out + n, 0.f);
-        return;
-    }
+    if (!evaluable(wi, wo, query, out)) return;
     const double in[3] = {wi.x, wi.y, wi.z};
     const double outv[3] = {wo.x, wo.y, wo.z};
     double rgb[kChannelCount];

@@ -68,10 +68,6 @@ LayerWeights read_layer(const nbrdf::Hdf5WeightsFile& file, const std::string& p
     return w;
 }
 
-bool all_finite(const Vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
 // Layer widths are padded with zero weights to a multiple of this many lanes, so that the inner
 // loops have trip counts the compiler vectorises without remainder loops.
 constexpr int kLanes = 8;
@@ -228,11 +224,7 @@ void NbrdfBrdf::forward(const float input[kInputs], float rgb[kOutputs]) const {
 
 void NbrdfBrdf::eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& query,
                          float* out) const {
-    const std::size_t n = query.size();
-    if (!(wi.z > 0.f) || !(wo.z > 0.f) || !all_finite(wi) || !all_finite(wo)) {
-        std::fill(out, out + n, 0.f);
-        return;
-    }
+    if (!evaluable(wi, wo, query, out)) return;
     float input[kInputs], rgb[kOutputs];
     network_input(wi, wo, input);
     forward(input, rgb);

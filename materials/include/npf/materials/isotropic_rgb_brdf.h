@@ -29,6 +29,10 @@ protected:
     // name, the material's only name.
     void describe_rgb_file(const std::string& format, const std::string& path, std::uint64_t file_bytes);
 
+    // Whether eval_cos has a value for the pair: both directions finite and above the horizon (a
+    // one-sided material). When not, writes the query's zeros to `out`.
+    static bool evaluable(const Vec3& wi, const Vec3& wo, const ChannelQuery& query, float* out);
+
     // out[k], k < query.size(): the query's channel k of `rgb` (R, G, B; 0 beyond) times cos_o, in
     // T's precision; 0 where not finite (arguments that are not unit vectors), and 0 for a
     // negative value when the query clamps.
