@@ -1,6 +1,7 @@
 #include <npf/core/owned_folder.h>
 
 #include <npf/core/error.h>
+#include <npf/core/file_kind.h>
 
 #include <cctype>
 #include <cerrno>
@@ -19,18 +20,6 @@ namespace npf {
 namespace {
 
 std::string system_message(int e) { return std::strerror(e); }
-
-// What a directory entry is, for messages ("a regular file", "a FIFO").
-std::string kind_of(mode_t mode) {
-    if (S_ISREG(mode)) return "a regular file";
-    if (S_ISDIR(mode)) return "a folder";
-    if (S_ISLNK(mode)) return "a symbolic link";
-    if (S_ISFIFO(mode)) return "a FIFO";
-    if (S_ISSOCK(mode)) return "a socket";
-    if (S_ISCHR(mode)) return "a character device";
-    if (S_ISBLK(mode)) return "a block device";
-    return "a special file";
-}
 
 // One name inside a folder: no slash, not "." or "..".
 void check_entry_name(const std::string& folder, const std::string& name) {
@@ -160,7 +149,7 @@ void OwnedFolder::refuse(const std::string& name, const char* kind) const {
         const std::string target = n > 0 ? std::string(to.data(), std::size_t(n)) : "?";
         throw Error(entry, "is a symbolic link (to " + target + "): a " + kind + " " + m_owner + " owns is never followed; remove it");
     }
-    throw Error(entry, "is " + kind_of(st.st_mode) + " where " + m_owner + " keeps a " + kind + " of its own: not used; remove it");
+    throw Error(entry, "is " + file_kind(st.st_mode) + " where " + m_owner + " keeps a " + kind + " of its own: not used; remove it");
 }
 
 OwnedFolder OwnedFolder::owned_child(const std::string& name, mode_t mode) const {

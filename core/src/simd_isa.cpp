@@ -13,13 +13,17 @@ namespace {
 
 std::atomic<int> g_isa{int(SimdIsa::Auto)};
 
-bool cpu_has_avx2() {
+// Whether the CPU has `feature` (a string literal, as __builtin_cpu_supports takes it); false
+// where the compiler cannot ask.
 #if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
-    static const bool has = __builtin_cpu_supports("avx2");
-    return has;
+#define NPF_CPU_SUPPORTS(feature) __builtin_cpu_supports(feature)
 #else
-    return false;
+#define NPF_CPU_SUPPORTS(feature) false
 #endif
+
+bool cpu_has_avx2() {
+    static const bool has = NPF_CPU_SUPPORTS("avx2");
+    return has;
 }
 
 // NPF_SIMD=portable or avx2 sets what Auto means for the process (benchmarks, and reproducing a
@@ -42,12 +46,8 @@ SimdIsa auto_isa() {
 }  // namespace
 
 bool cpu_has_fma() {
-#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
-    static const bool has = __builtin_cpu_supports("fma");
+    static const bool has = NPF_CPU_SUPPORTS("fma");
     return has;
-#else
-    return false;
-#endif
 }
 
 bool simd_isa_supported(SimdIsa isa) { return isa != SimdIsa::Avx2 || cpu_has_avx2(); }

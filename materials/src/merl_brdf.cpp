@@ -2,9 +2,7 @@
 // Matusik et al.) operation for operation in double, including its vector rotations, so that
 // bin choices agree with it even at bin edges and for in-plane configurations, where the sign
 // of a zero decides between the first and last phi_d bin.
-#include <npf/core/cosine_sampling.h>
 #include <npf/core/text.h>
-#include <npf/materials/material_formats.h>
 #include <npf/materials/merl_brdf.h>
 
 #include <npf/core/error.h>
@@ -208,10 +206,6 @@ AxisBlend periodic_blend(double coord, int n) {
     return b;
 }
 
-bool all_finite(const Vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
 }  // namespace
 
 // ---- Loading -----------------------------------------------------------------------------
@@ -320,15 +314,9 @@ std::unique_ptr<MerlBrdf> MerlBrdf::load(const std::string& path, MerlOptions op
     // with it f_r cos(theta_i) cos(theta_o); each value is already under the cap.
     double largest = 0.0;
     for (double v : fr) largest = std::max(largest, std::fabs(v));
+    brdf->describe_rgb_file("merl", path, file_size);
     BrdfInfo& info = brdf->m_info;
     info.value_bound = largest;
-    info.format = "merl";
-    info.path = path;
-    // MERL files carry no description; the material's name is the file name.
-    info.description = std::filesystem::path(path).stem().string();
-    info.isotropic = true;
-    info.channels = Channels::rgb();
-    info.file_bytes = file_size;
     info.details = {
         {"grid", dims_text(n_th, n_td, n_pd) + " (theta_h x theta_d x phi_d)"},
         {"lookup", opts.lookup == MerlLookup::Nearest ? "nearest" : "linear"},
@@ -388,12 +376,7 @@ void MerlBrdf::lookup_linear(const double in[3], const double out[3], double rgb
 
 void MerlBrdf::eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& query,
                         float* out) const {
-    const std::size_t n = query.size();
-    // One-sided material; the tests also reject NaN directions.
-    if (!(wi.z > 0.f) || !(wo.z > 0.f) || !all_finite(wi) || !all_finite(wo)) {
-        std::fill(out, out + n, 0.f);
-        return;
-    }
+    if (!evaluable(wi, wo, query, out)) return;
     const double in[3] = {wi.x, wi.y, wi.z};
     const double outv[3] = {wo.x, wo.y, wo.z};
     double rgb[kChannelCount];
@@ -402,45 +385,7 @@ void MerlBrdf::eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& quer
     else
         lookup_linear(in, outv, rgb);
 
-    const double cos_o = wo.z;
-    for (std::size_t k = 0; k < n; ++k) {
-        const std::uint32_t i0 = query.index0[k], i1 = query.index1[k];
-        const double w1 = query.weight1[k];
-        const double a = i0 < kChannelCount ? rgb[i0] : 0.0;
-        const double b = i1 < kChannelCount ? rgb[i1] : 0.0;
-        double v = (w1 == 0.0 ? a : (1.0 - w1) * a + w1 * b) * cos_o;
-        if (!std::isfinite(v)) v = 0.0;  // unreachable for unit inputs; never emit NaN
-        if (query.clamp_negative && v < 0.0) v = 0.0;
-        out[k] = static_cast<float>(v);
-    }
-}
-
-// ---- Sampling ----------------------------------------------------------------------------
-// MERL files carry no importance-sampling data and the isotropic half/difference table does
-// not invert cheaply, so wo is drawn cosine-weighted over the hemisphere: it is exact for the
-// diffuse part, never zero where the BRDF is not, and pdf/sample stay trivially consistent.
-
-float MerlBrdf::pdf(const Vec3& wi, const Vec3& wo) const {
-    if (!(wi.z > 0.f) || !(wo.z > 0.f)) return 0.f;
-    return wo.z * (1.f / kPi);
-}
-
-bool MerlBrdf::sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
-                      float* weight) const {
-    return sample_cosine_hemisphere(*this, wi, u, query, s, weight);
-}
-
-// MERL files by their size, or files that say they are one (their name, or a plausible header)
-// whose size is wrong: the loader then says it is truncated or has trailing bytes.
-MaterialFormat merl_material_format() {
-    MaterialFormat f;
-    f.described_as = "a MERL .binary";
-    f.claims_file = [](const MaterialFileHead& h) {
-        return MerlBrdf::looks_like_merl(h.bytes, h.count, h.size) || MerlBrdf::has_plausible_header(h.bytes, h.count, h.size) ||
-               ends_with(h.path, ".binary");
-    };
-    f.open = [](const std::string& path) -> std::unique_ptr<Brdf> { return MerlBrdf::load(path); };
-    return f;
+    write_rgb_query(rgb, double(wo.z), query, out);  // in double: Nearest is the reference reader's bins
 }
 
 }  // namespace npf

@@ -1,6 +1,7 @@
 // The u-space of the RGL tables (docs/rgl-format.md, sec. 0), shared by
 // the reader and the writer so that both map angles identically: a square-root warp of the
-// elevation and a linear map of the azimuth onto [0, 1].
+// elevation and a linear map of the azimuth onto [0, 1]. A private header of theirs: the names
+// are taken into npf for them.
 #pragma once
 
 #include <npf/core/clamp.h>
@@ -16,3 +17,10 @@ inline float u_to_theta(float u) { return 0.5f * kPi * u * u; }
 inline float u_to_phi(float u) { return (2.f * u - 1.f) * kPi; }
 
 }  // namespace npf::rgl
+
+namespace npf {
+using rgl::phi_to_u;
+using rgl::theta_to_u;
+using rgl::u_to_phi;
+using rgl::u_to_theta;
+}  // namespace npf

@@ -12,16 +12,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <iterator>
 #include <cmath>
 #include <random>
 
 namespace npf {
-
-using rgl::phi_to_u;
-using rgl::theta_to_u;
-using rgl::u_to_phi;
-using rgl::u_to_theta;
 
 namespace {
 
@@ -191,6 +187,215 @@ void check_options(const RglWriterOptions& o, const std::string& path) {
     }
 }
 
+// The options' grids, and what the stages share: the source, its query, the slices' directions.
+struct Acquisition {
+    const Brdf& source;
+    const RglWriterOptions& options;
+    const std::string& path;
+    ChannelQuery query;
+    LuminanceWeights luminance;
+    int threads;
+    bool iso;
+    std::vector<float> phi_i, theta_i;
+    std::size_t nP = 0, nT = 0, slices = 0;
+    Vec3 slice_wi(std::size_t slice) const { return spherical_direction(theta_i[slice % nT], phi_i[slice / nT]); }
+};
+
+// W1: the NDF table, from the options' NDF or by power iteration on the retro-reflection.
+NodeTable ndf_nodes_of(const Acquisition& a) {
+    const RglWriterOptions& options = a.options;
+    const bool iso = a.iso;
+    const std::string& path = a.path;
+    NodeTable ndf_nodes;
+    ndf_nodes.rows = iso ? 2 : options.ndf_rows;
+    ndf_nodes.cols = options.ndf_size;
+    ndf_nodes.values.assign(std::size_t(ndf_nodes.rows) * ndf_nodes.cols, 0.f);
+    if (options.ndf) {
+        for (int r = 0; r < ndf_nodes.rows; ++r)
+            for (int c = 0; c < ndf_nodes.cols; ++c)
+                ndf_nodes.values[std::size_t(r) * ndf_nodes.cols + c] =
+                    std::max(0.f, options.ndf(node_direction(ndf_nodes.u_theta(c), iso ? 0.5f : ndf_nodes.u_phi(r), 0.f)));
+    } else {
+        ndf_nodes = ndf_by_power_iteration(a.source, a.query, a.luminance, ndf_nodes, options.power_iterations);
+    }
+    if (iso) {  // both rows equal: the relative azimuth carries no information
+        for (int c = 0; c < ndf_nodes.cols; ++c) {
+            const float v = 0.5f * (ndf_nodes.values[std::size_t(c)] + ndf_nodes.values[std::size_t(ndf_nodes.cols + c)]);
+            ndf_nodes.values[std::size_t(c)] = ndf_nodes.values[std::size_t(ndf_nodes.cols + c)] = v;
+        }
+    }
+    // A floor of 1e-4 of the peak (measured best of 1e-5..1e-2, docs/synth.md) keeps D > 0 everywhere, so that non-specular parts of the BRDF do not land
+    // where the VNDF warp never goes and R = f cos 4 sigma / D does not blow up.
+    const float ndf_max = *std::max_element(ndf_nodes.values.begin(), ndf_nodes.values.end());
+    if (!(ndf_max > 0.f) || !std::isfinite(ndf_max)) throw Error(path, "the source's normal distribution is zero or not finite");
+    for (float& v : ndf_nodes.values) v = std::isfinite(v) ? v + 1e-4f * ndf_max : ndf_max;
+    return ndf_nodes;
+}
+
+// W2: sigma at the NDF's nodes, and the NDF normalised so that the integral of D cos is 1.
+NodeTable sigma_nodes_of(const Acquisition& a, NodeTable& ndf_nodes, const std::function<void(double)>& progress) {
+    const bool iso = a.iso;
+    const std::string& path = a.path;
+    NodeTable sigma_nodes = ndf_nodes;
+    {
+        PiecewiseLinear2D ndf_table(std::size_t(ndf_nodes.cols), std::size_t(ndf_nodes.rows), 1, ndf_nodes.values, false, path);
+        const ProjectedAreaIntegrator sigma(ndf_table, ndf_nodes.rows, ndf_nodes.cols, iso);
+        const double normal = sigma(Vec3(0.f, 0.f, 1.f));
+        if (!(normal > 0.0)) throw Error(path, "the normal distribution integrates to zero");
+        const int sigma_rows = iso ? 1 : sigma_nodes.rows;
+        std::vector<double> raw(std::size_t(sigma_rows) * sigma_nodes.cols);
+        npf::parallel_for(raw.size(), [&](std::size_t i) {
+            const int r = int(i) / sigma_nodes.cols, c = int(i) % sigma_nodes.cols;
+            const Vec3 w = node_direction(sigma_nodes.u_theta(c), iso ? 0.5f : sigma_nodes.u_phi(r), 0.f);
+            raw[i] = sigma(w);
+        }, a.threads, progress);
+        for (int r = 0; r < sigma_nodes.rows; ++r)
+            for (int c = 0; c < sigma_nodes.cols; ++c)
+                sigma_nodes.values[std::size_t(r) * sigma_nodes.cols + c] =
+                    float(raw[std::size_t(iso ? 0 : r) * sigma_nodes.cols + c] / normal);
+        for (float& v : ndf_nodes.values) v = float(double(v) / normal);
+    }
+    return sigma_nodes;
+}
+
+// W3: the theta_i grid, equal steps in (azimuth-averaged) projected area.
+std::vector<float> theta_grid(const NodeTable& sigma_nodes, const RglWriterOptions& options) {
+    std::vector<double> mean_sigma(std::size_t(sigma_nodes.cols), 0.0);
+    for (int r = 0; r < sigma_nodes.rows; ++r)
+        for (int c = 0; c < sigma_nodes.cols; ++c)
+            mean_sigma[std::size_t(c)] += sigma_nodes.values[std::size_t(r) * sigma_nodes.cols + c] / sigma_nodes.rows;
+    // sigma = cos(theta) (1 + Lambda) can rise slightly just off the normal (rough lobes);
+    // the rule needs it non-increasing, so it runs on the running minimum.
+    for (std::size_t c = 1; c < mean_sigma.size(); ++c) mean_sigma[c] = std::min(mean_sigma[c], mean_sigma[c - 1]);
+    const bool usable = mean_sigma.back() < 0.99 * mean_sigma.front();
+    std::vector<float> theta_i(std::size_t(options.theta_count));
+    for (int k = 0; k < options.theta_count; ++k) {
+        const double f = double(k) / double(options.theta_count - 1);
+        if (!usable) {  // no fall-off to divide into equal steps: equal steps in angle
+            theta_i[std::size_t(k)] = float(f * 0.5 * kPiD);
+            continue;
+        }
+        const double target = mean_sigma.front() + f * (mean_sigma.back() - mean_sigma.front());
+        std::size_t c = 0;
+        while (c + 2 < mean_sigma.size() && mean_sigma[c + 1] > target) ++c;
+        const double drop = mean_sigma[c] - mean_sigma[c + 1];
+        const double t = drop > 0.0 ? std::clamp((mean_sigma[c] - target) / drop, 0.0, 1.0) : 0.0;
+        const double u = (double(c) + t) / double(mean_sigma.size() - 1);
+        theta_i[std::size_t(k)] = u_to_theta(float(u));
+    }
+    theta_i.front() = 0.f;
+    theta_i.back() = 0.5f * kPi;
+    for (std::size_t k = 1; k < theta_i.size(); ++k) {  // keep it strictly ascending
+        if (!(theta_i[k] > theta_i[k - 1])) theta_i[k] = std::nextafter(theta_i[k - 1], 2.f);
+    }
+    return theta_i;
+}
+
+std::vector<float> phi_grid(bool iso, const RglWriterOptions& options) {
+    std::vector<float> phi_i;
+    if (iso) {
+        phi_i = {0.f};
+    } else {
+        for (int k = 0; k < options.phi_count; ++k) phi_i.push_back(-kPi + 2.f * kPi * float(k) / float(options.phi_count - 1));
+    }
+    return phi_i;
+}
+
+// W4: the VNDF of every slice.
+std::vector<float> vndf_values_of(const Acquisition& a, const PiecewiseLinear2D& ndf, const PiecewiseLinear2D& sigma) {
+    const bool iso = a.iso;
+    const std::vector<float>& phi_i = a.phi_i;
+    const std::vector<float>& theta_i = a.theta_i;
+    const std::size_t nT = a.nT, slices = a.slices;
+    const std::size_t V = std::size_t(a.options.vndf_size);
+    std::vector<float> vndf_values(slices * V * V);
+    npf::parallel_for(slices, [&](std::size_t slice) {
+        const Vec3 wi = a.slice_wi(slice);
+        const float phi_offset = iso ? phi_i[slice / nT] : 0.f;
+        const float s_i = sigma.eval({theta_to_u(theta_i[slice % nT]), phi_to_u(phi_i[slice / nT])}, SliceBlend());
+        float* out = vndf_values.data() + slice * V * V;
+        float largest = 0.f;
+        for (std::size_t r = 0; r < V; ++r) {
+            for (std::size_t c = 0; c < V; ++c) {
+                const float ux = float(c) / float(V - 1), uy = float(r) / float(V - 1);
+                const Vec3 m = node_direction(ux, uy, phi_offset);
+                const float d = ndf.eval({ux, uy}, SliceBlend());
+                const float v = std::max(0.f, dot(wi, m)) * d / s_i * 2.f * kPi * kPi * ux * std::sin(u_to_theta(ux));
+                out[r * V + c] = v;
+                largest = std::max(largest, v);
+            }
+        }
+        // Every slice needs a positive total (readers divide by it); a faint floor also keeps
+        // the warp defined where wi.m <= 0.
+        const float floor = largest > 0.f ? 1e-7f * largest : 1.f;
+        for (std::size_t k = 0; k < V * V; ++k) out[k] += floor;
+    }, a.threads);
+    return vndf_values;
+}
+
+struct DataTables {
+    std::vector<float> data, lum;
+    std::vector<std::uint8_t> valid;
+};
+
+// W5: the data (R = f cos 4 sigma / D at the VNDF's samples) and their luminance.
+DataTables data_tables_of(const Acquisition& a, const PiecewiseLinear2D& ndf, const PiecewiseLinear2D& sigma,
+                          const PiecewiseLinear2D& vndf, const std::function<void(double)>& progress) {
+    const bool iso = a.iso;
+    const std::vector<float>& phi_i = a.phi_i;
+    const std::size_t nT = a.nT, slices = a.slices;
+    const std::size_t S = std::size_t(a.options.data_size);
+    const std::size_t C = a.query.size();
+    DataTables tables;
+    std::vector<float>& data = tables.data;
+    std::vector<float>& lum = tables.lum;
+    std::vector<std::uint8_t>& valid = tables.valid;
+    data.assign(slices * C * S * S, 0.f);
+    lum.assign(slices * S * S, 0.f);
+    valid.assign(slices * S * S, 0);
+    npf::parallel_for(slices, [&](std::size_t slice) {
+        const std::size_t p = slice / nT, t = slice % nT;
+        const Vec3 wi = a.slice_wi(slice);
+        const Vec3 wi_eval = lifted(wi);
+        SliceBlend on_slice;
+        on_slice.slice[0] = std::uint32_t(slice);
+        const float phi_wi = azimuth(wi);
+        const float s_i = sigma.eval({theta_to_u(elevation(wi)), phi_to_u(phi_wi)}, SliceBlend());
+        std::vector<float> values(C);
+        for (std::size_t r = 0; r < S; ++r) {
+            for (std::size_t c = 0; c < S; ++c) {
+                const Vec2 xi{float(c) / float(S - 1), float(r) / float(S - 1)};
+                const Vec2 u_h = vndf.sample(xi, on_slice, nullptr);
+                const Vec3 wh = spherical_direction(u_to_theta(u_h.x), u_to_phi(u_h.y) + (iso ? phi_i[p] : 0.f));
+                const Vec3 wo = wh * (2.f * dot(wi, wh)) - wi;
+                const std::size_t node = (slice * S + r) * S + c;
+                if (!(wo.z > 0.f)) continue;  // R = 0, not valid
+                valid[node] = 1;
+                // The u-coordinate a reader computes from this half vector.
+                const Vec3 h = normalize(wi + wo);
+                float u_phi = phi_to_u(azimuth(h) - (iso ? phi_wi : 0.f));
+                u_phi -= std::floor(u_phi);
+                const float d = ndf.eval({theta_to_u(elevation(h)), u_phi}, SliceBlend());
+                a.source.eval_cos(wi_eval, wo, a.query, values.data());
+                const float ratio = d > 0.f ? 4.f * s_i / d : 0.f;
+                for (std::size_t k = 0; k < C; ++k) {
+                    data[((slice * C + k) * S + r) * S + c] = values[k] * ratio;
+                    values[k] *= ratio;
+                }
+                lum[node] = float(std::max(0.0, a.luminance(values.data())));
+            }
+        }
+        // Readers normalise each luminance slice and divide by its total: keep it positive,
+        // with a floor so that every valid node stays reachable by sampling.
+        float* l = lum.data() + slice * S * S;
+        const float largest = *std::max_element(l, l + S * S);
+        for (std::size_t k = 0; k < S * S; ++k) l[k] = largest > 0.f ? std::max(l[k], 1e-4f * largest) : 1.f;
+        (void)t;
+    }, a.threads, progress);
+
+    return tables;
+}
+
 }  // namespace
 
 bool looks_isotropic(const Brdf& source, int pairs, double tolerance) {
@@ -230,180 +435,45 @@ bool looks_isotropic(const Brdf& source, int pairs, double tolerance) {
 RglWriteReport write_rgl(const Brdf& source, const std::string& path, const RglWriterOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     check_options(options, path);
-    const ChannelQuery query = source.query(options.channels);
-    const LuminanceWeights luminance(options.channels);
-    const int threads = npf::thread_count(options.threads);
+    Acquisition a{source, options, path, source.query(options.channels), LuminanceWeights(options.channels),
+                  npf::thread_count(options.threads), false, {}, {}};
+    a.iso = options.anisotropy == AnisotropyMode::Isotropic ||
+            (options.anisotropy == AnisotropyMode::Auto && looks_isotropic(source));
+    const bool iso = a.iso;
 
     RglWriteReport report;
     report.path = path;
-    report.isotropic = options.anisotropy == AnisotropyMode::Isotropic ||
-                       (options.anisotropy == AnisotropyMode::Auto && looks_isotropic(source));
-    const bool iso = report.isotropic;
+    report.isotropic = iso;
 
     // Progress: 10% for the NDF and sigma, the rest for the slices.
-    auto stage = [&](double begin, double span) {
+    auto stage = [&options](double begin, double span) -> std::function<void(double)> {
         return [&options, begin, span](double f) {
             if (options.progress) options.progress(begin + span * f);
         };
     };
 
-    // ---- W1: the NDF table. --------------------------------------------------------------
-    NodeTable ndf_nodes;
-    ndf_nodes.rows = iso ? 2 : options.ndf_rows;
-    ndf_nodes.cols = options.ndf_size;
-    ndf_nodes.values.assign(std::size_t(ndf_nodes.rows) * ndf_nodes.cols, 0.f);
-    if (options.ndf) {
-        for (int r = 0; r < ndf_nodes.rows; ++r)
-            for (int c = 0; c < ndf_nodes.cols; ++c)
-                ndf_nodes.values[std::size_t(r) * ndf_nodes.cols + c] =
-                    std::max(0.f, options.ndf(node_direction(ndf_nodes.u_theta(c), iso ? 0.5f : ndf_nodes.u_phi(r), 0.f)));
-    } else {
-        ndf_nodes = ndf_by_power_iteration(source, query, luminance, ndf_nodes, options.power_iterations);
-    }
-    if (iso) {  // both rows equal: the relative azimuth carries no information
-        for (int c = 0; c < ndf_nodes.cols; ++c) {
-            const float v = 0.5f * (ndf_nodes.values[std::size_t(c)] + ndf_nodes.values[std::size_t(ndf_nodes.cols + c)]);
-            ndf_nodes.values[std::size_t(c)] = ndf_nodes.values[std::size_t(ndf_nodes.cols + c)] = v;
-        }
-    }
-    // A floor of 1e-4 of the peak (measured best of 1e-5..1e-2, docs/synth.md) keeps D > 0 everywhere, so that non-specular parts of the BRDF do not land
-    // where the VNDF warp never goes and R = f cos 4 sigma / D does not blow up.
-    const float ndf_max = *std::max_element(ndf_nodes.values.begin(), ndf_nodes.values.end());
-    if (!(ndf_max > 0.f) || !std::isfinite(ndf_max)) throw Error(path, "the source's normal distribution is zero or not finite");
-    for (float& v : ndf_nodes.values) v = std::isfinite(v) ? v + 1e-4f * ndf_max : ndf_max;
+    NodeTable ndf_nodes = ndf_nodes_of(a);
     stage(0.0, 0.1)(0.03);
-
-    // ---- W2: sigma, and the normalisation integral D cos = 1. -------------------------------
-    NodeTable sigma_nodes = ndf_nodes;
-    {
-        PiecewiseLinear2D ndf_table(std::size_t(ndf_nodes.cols), std::size_t(ndf_nodes.rows), 1, ndf_nodes.values, false, path);
-        const ProjectedAreaIntegrator sigma(ndf_table, ndf_nodes.rows, ndf_nodes.cols, iso);
-        const double normal = sigma(Vec3(0.f, 0.f, 1.f));
-        if (!(normal > 0.0)) throw Error(path, "the normal distribution integrates to zero");
-        const int sigma_rows = iso ? 1 : sigma_nodes.rows;
-        std::vector<double> raw(std::size_t(sigma_rows) * sigma_nodes.cols);
-        npf::parallel_for(raw.size(), [&](std::size_t i) {
-            const int r = int(i) / sigma_nodes.cols, c = int(i) % sigma_nodes.cols;
-            const Vec3 w = node_direction(sigma_nodes.u_theta(c), iso ? 0.5f : sigma_nodes.u_phi(r), 0.f);
-            raw[i] = sigma(w);
-        }, threads, stage(0.03, 0.07));
-        for (int r = 0; r < sigma_nodes.rows; ++r)
-            for (int c = 0; c < sigma_nodes.cols; ++c)
-                sigma_nodes.values[std::size_t(r) * sigma_nodes.cols + c] =
-                    float(raw[std::size_t(iso ? 0 : r) * sigma_nodes.cols + c] / normal);
-        for (float& v : ndf_nodes.values) v = float(double(v) / normal);
-    }
+    const NodeTable sigma_nodes = sigma_nodes_of(a, ndf_nodes, stage(0.03, 0.07));
     const PiecewiseLinear2D ndf(std::size_t(ndf_nodes.cols), std::size_t(ndf_nodes.rows), 1, ndf_nodes.values, false, path);
     const PiecewiseLinear2D sigma(std::size_t(sigma_nodes.cols), std::size_t(sigma_nodes.rows), 1, sigma_nodes.values,
                                   false, path);
-
-    // ---- W3: the theta_i grid, equal steps in (azimuth-averaged) projected area. ---------------
-    std::vector<double> mean_sigma(std::size_t(sigma_nodes.cols), 0.0);
-    for (int r = 0; r < sigma_nodes.rows; ++r)
-        for (int c = 0; c < sigma_nodes.cols; ++c)
-            mean_sigma[std::size_t(c)] += sigma_nodes.values[std::size_t(r) * sigma_nodes.cols + c] / sigma_nodes.rows;
-    // sigma = cos(theta) (1 + Lambda) can rise slightly just off the normal (rough lobes);
-    // the rule needs it non-increasing, so it runs on the running minimum.
-    for (std::size_t c = 1; c < mean_sigma.size(); ++c) mean_sigma[c] = std::min(mean_sigma[c], mean_sigma[c - 1]);
-    const bool usable = mean_sigma.back() < 0.99 * mean_sigma.front();
-    std::vector<float> theta_i(std::size_t(options.theta_count));
-    for (int k = 0; k < options.theta_count; ++k) {
-        const double f = double(k) / double(options.theta_count - 1);
-        if (!usable) {  // no fall-off to divide into equal steps: equal steps in angle
-            theta_i[std::size_t(k)] = float(f * 0.5 * kPiD);
-            continue;
-        }
-        const double target = mean_sigma.front() + f * (mean_sigma.back() - mean_sigma.front());
-        std::size_t c = 0;
-        while (c + 2 < mean_sigma.size() && mean_sigma[c + 1] > target) ++c;
-        const double drop = mean_sigma[c] - mean_sigma[c + 1];
-        const double t = drop > 0.0 ? std::clamp((mean_sigma[c] - target) / drop, 0.0, 1.0) : 0.0;
-        const double u = (double(c) + t) / double(mean_sigma.size() - 1);
-        theta_i[std::size_t(k)] = u_to_theta(float(u));
-    }
-    theta_i.front() = 0.f;
-    theta_i.back() = 0.5f * kPi;
-    for (std::size_t k = 1; k < theta_i.size(); ++k) {  // keep it strictly ascending
-        if (!(theta_i[k] > theta_i[k - 1])) theta_i[k] = std::nextafter(theta_i[k - 1], 2.f);
-    }
-    std::vector<float> phi_i;
-    if (iso) {
-        phi_i = {0.f};
-    } else {
-        for (int k = 0; k < options.phi_count; ++k) phi_i.push_back(-kPi + 2.f * kPi * float(k) / float(options.phi_count - 1));
-    }
-    const std::size_t nP = phi_i.size(), nT = theta_i.size(), slices = nP * nT;
-
-    // ---- W4: the VNDF of every slice. ------------------------------------------------------
+    a.theta_i = theta_grid(sigma_nodes, options);
+    a.phi_i = phi_grid(iso, options);
+    a.nP = a.phi_i.size();
+    a.nT = a.theta_i.size();
+    a.slices = a.nP * a.nT;
+    const std::vector<float>& phi_i = a.phi_i;
+    const std::vector<float>& theta_i = a.theta_i;
+    const std::size_t nP = a.nP, nT = a.nT;
     const std::size_t V = std::size_t(options.vndf_size), S = std::size_t(options.data_size);
-    std::vector<float> vndf_values(slices * V * V);
-    auto slice_wi = [&](std::size_t slice) { return spherical_direction(theta_i[slice % nT], phi_i[slice / nT]); };
-    npf::parallel_for(slices, [&](std::size_t slice) {
-        const Vec3 wi = slice_wi(slice);
-        const float phi_offset = iso ? phi_i[slice / nT] : 0.f;
-        const float s_i = sigma.eval({theta_to_u(theta_i[slice % nT]), phi_to_u(phi_i[slice / nT])}, SliceBlend());
-        float* out = vndf_values.data() + slice * V * V;
-        float largest = 0.f;
-        for (std::size_t r = 0; r < V; ++r) {
-            for (std::size_t c = 0; c < V; ++c) {
-                const float ux = float(c) / float(V - 1), uy = float(r) / float(V - 1);
-                const Vec3 m = node_direction(ux, uy, phi_offset);
-                const float d = ndf.eval({ux, uy}, SliceBlend());
-                const float v = std::max(0.f, dot(wi, m)) * d / s_i * 2.f * kPi * kPi * ux * std::sin(u_to_theta(ux));
-                out[r * V + c] = v;
-                largest = std::max(largest, v);
-            }
-        }
-        // Every slice needs a positive total (readers divide by it); a faint floor also keeps
-        // the warp defined where wi.m <= 0.
-        const float floor = largest > 0.f ? 1e-7f * largest : 1.f;
-        for (std::size_t k = 0; k < V * V; ++k) out[k] += floor;
-    }, threads);
-    const PiecewiseLinear2D vndf(V, V, slices, vndf_values, true, path);
-
-    // ---- W5: data and luminance. ----------------------------------------------------------
-    const std::size_t C = query.size();
-    std::vector<float> data(slices * C * S * S, 0.f), lum(slices * S * S, 0.f);
-    std::vector<std::uint8_t> valid(slices * S * S, 0);
-    npf::parallel_for(slices, [&](std::size_t slice) {
-        const std::size_t p = slice / nT, t = slice % nT;
-        const Vec3 wi = slice_wi(slice);
-        const Vec3 wi_eval = lifted(wi);
-        SliceBlend on_slice;
-        on_slice.slice[0] = std::uint32_t(slice);
-        const float phi_wi = azimuth(wi);
-        const float s_i = sigma.eval({theta_to_u(elevation(wi)), phi_to_u(phi_wi)}, SliceBlend());
-        std::vector<float> values(C);
-        for (std::size_t r = 0; r < S; ++r) {
-            for (std::size_t c = 0; c < S; ++c) {
-                const Vec2 xi{float(c) / float(S - 1), float(r) / float(S - 1)};
-                const Vec2 u_h = vndf.sample(xi, on_slice, nullptr);
-                const Vec3 wh = spherical_direction(u_to_theta(u_h.x), u_to_phi(u_h.y) + (iso ? phi_i[p] : 0.f));
-                const Vec3 wo = wh * (2.f * dot(wi, wh)) - wi;
-                const std::size_t node = (slice * S + r) * S + c;
-                if (!(wo.z > 0.f)) continue;  // R = 0, not valid
-                valid[node] = 1;
-                // The u-coordinate a reader computes from this half vector.
-                const Vec3 h = normalize(wi + wo);
-                float u_phi = phi_to_u(azimuth(h) - (iso ? phi_wi : 0.f));
-                u_phi -= std::floor(u_phi);
-                const float d = ndf.eval({theta_to_u(elevation(h)), u_phi}, SliceBlend());
-                source.eval_cos(wi_eval, wo, query, values.data());
-                const float ratio = d > 0.f ? 4.f * s_i / d : 0.f;
-                for (std::size_t k = 0; k < C; ++k) {
-                    data[((slice * C + k) * S + r) * S + c] = values[k] * ratio;
-                    values[k] *= ratio;
-                }
-                lum[node] = float(std::max(0.0, luminance(values.data())));
-            }
-        }
-        // Readers normalise each luminance slice and divide by its total: keep it positive,
-        // with a floor so that every valid node stays reachable by sampling.
-        float* l = lum.data() + slice * S * S;
-        const float largest = *std::max_element(l, l + S * S);
-        for (std::size_t k = 0; k < S * S; ++k) l[k] = largest > 0.f ? std::max(l[k], 1e-4f * largest) : 1.f;
-        (void)t;
-    }, threads, stage(0.1, 0.9));
+    const std::vector<float> vndf_values = vndf_values_of(a, ndf, sigma);
+    const PiecewiseLinear2D vndf(V, V, a.slices, vndf_values, true, path);
+    const DataTables tables = data_tables_of(a, ndf, sigma, vndf, stage(0.1, 0.9));
+    const std::vector<float>& data = tables.data;
+    const std::vector<float>& lum = tables.lum;
+    const std::vector<std::uint8_t>& valid = tables.valid;
+    const std::size_t C = a.query.size();
 
     // ---- W6: the file. ---------------------------------------------------------------------
     TensorFileWriter writer;

@@ -14,6 +14,14 @@
 
 namespace npf {
 
+YAML::Node YamlContext::load(const std::string& yaml) const {
+    try {
+        return YAML::Load(yaml);
+    } catch (const YAML::ParserException& e) {
+        throw Error(source + ":" + std::to_string(e.mark.line + 1), "not valid YAML: " + e.msg);
+    }
+}
+
 std::string YamlContext::where(const YAML::Node& node) const {
     const YAML::Mark mark = node.Mark();
     return mark.line >= 0 ? source + ":" + std::to_string(mark.line + 1) : source;

@@ -1,5 +1,6 @@
-// The checks of config_checks.h: the YAML pre-pass, context variables, the transform graph and
-// the LUT files a display processor opens. What OCIO 2.1 does that makes each necessary is
+// The checks of config_checks.h: the YAML pre-pass, context variables and the transform graph,
+// with the LUT files a display processor opens (the files themselves: config_lut_files.cpp; OCIO's
+// reasons: config_reason.cpp). What OCIO 2.1 does that makes each necessary is
 // noted where it is checked (sources: OpenColorIO v2.1.2, src/OpenColorIO/).
 #include "config_checks.h"
 
@@ -9,14 +10,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
 #include <map>
 #include <utility>
 #include <vector>
@@ -27,7 +21,6 @@ namespace npf::color::detail {
 
 namespace {
 
-namespace fs = std::filesystem;
 
 // YAML nesting with aliases expanded (yaml-cpp's parser stops at 2000 levels, but an alias
 // can nest a whole earlier tree again). Real configs nest about ten levels.
@@ -42,16 +35,6 @@ constexpr std::uint64_t kMaxResolveRounds = std::uint64_t(1) << 22;
 // config, and libstdc++'s regex compiler and matcher recurse per character (a regex of 20000
 // nested parentheses overflowed the stack). Real rules are a few dozen characters.
 constexpr std::size_t kMaxFileRuleBytes = 1024;
-// Reasons from OCIO are cut here (a LUT error lists every reader's complaint).
-constexpr std::size_t kMaxReasonBytes = 600;
-
-std::string quote(const std::string& s) { return "'" + s + "'"; }
-
-std::string join_quoted(const std::vector<std::string>& items) {
-    std::string out;
-    for (const std::string& s : items) out += (out.empty() ? "" : ", ") + quote(s);
-    return out;
-}
 
 // ---------------------------------------------------------------------------------------------
 // The YAML pre-pass
@@ -97,13 +80,6 @@ bool is_sequence(const YAML::Node& node) { return node.IsDefined() && node.IsSeq
 
 // ---------------------------------------------------------------------------------------------
 // Context variables
-
-// OCIO's ContainsContextVariables: a '$', or two distinct '%'.
-bool has_variables(const std::string& s) {
-    if (s.find('$') != std::string::npos) return true;
-    const std::size_t first = s.find('%');
-    return first != std::string::npos && s.rfind('%') != first;
-}
 
 // StringUtils::ReplaceInPlace, stopping (false) once the result would pass `limit` bytes.
 bool replace_all(std::string& s, const std::string& search, const std::string& value, std::size_t limit) {
@@ -460,155 +436,22 @@ private:
     std::map<std::string, std::uint64_t> m_files;
 };
 
-// ---------------------------------------------------------------------------------------------
-// LUT files
+}  // namespace
 
-// The folders OCIO looks for a relative LUT name in (Context.cpp, GetAbsoluteSearchPaths):
-// each search path with its context variables resolved, trimmed, relative ones under the
-// working dir, normalised; the working dir when there is none.
-std::vector<std::string> search_folders(const OCIO::Config& config, Resolver& resolver) {
-    const std::string working = config.getWorkingDir();
-    std::vector<std::string> out;
-    for (int i = 0; i < config.getNumSearchPaths(); ++i) {
-        std::string p = resolver.resolve(config.getSearchPath(i), "the search path");
-        const std::size_t b = p.find_first_not_of(" \t\r\n");
-        const std::size_t e = p.find_last_not_of(" \t\r\n");
-        p = b == std::string::npos ? std::string() : p.substr(b, e - b + 1);
-        while (!p.empty() && p.back() == '/') p.pop_back();
-        fs::path dir(p);
-        if (!dir.is_absolute()) dir = fs::path(working) / dir;
-        std::string normal = dir.lexically_normal().string();
-        while (normal.size() > 1 && normal.back() == '/') normal.pop_back();
-        out.push_back(normal);
-    }
-    if (out.empty()) out.push_back(working);
+std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+std::string join_quoted(const std::vector<std::string>& items) {
+    std::string out;
+    for (const std::string& s : items) out += (out.empty() ? "" : ", ") + quote(s);
     return out;
 }
 
-bool stat_exists(const std::string& path) {
-    struct stat st;
-    return ::stat(path.c_str(), &st) == 0;
+// OCIO's ContainsContextVariables: a '$', or two distinct '%'.
+bool has_variables(const std::string& s) {
+    if (s.find('$') != std::string::npos) return true;
+    const std::size_t first = s.find('%');
+    return first != std::string::npos && s.rfind('%') != first;
 }
-
-std::string file_kind(mode_t mode) {
-    if (S_ISDIR(mode)) return "a folder";
-    if (S_ISFIFO(mode)) return "a FIFO";
-    if (S_ISCHR(mode)) return "a character device";
-    if (S_ISBLK(mode)) return "a block device";
-    if (S_ISSOCK(mode)) return "a socket";
-    return "not a regular file";
-}
-
-bool is_under(const fs::path& file, const fs::path& folder) {
-    auto f = file.begin();
-    for (auto d = folder.begin(); d != folder.end(); ++d, ++f) {
-        if (d->empty() && std::next(d) == folder.end()) return true;  // a trailing '/'
-        if (f == file.end() || *f != *d) return false;
-    }
-    return true;
-}
-
-// The first `size` bytes of a regular file, opened without blocking (it was a regular file when
-// stat'ed; if it has been replaced by a FIFO since, the read does not wait for a writer).
-std::string read_lut(const std::string& config_path, const std::string& label, const std::string& file) {
-    const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) throw Error(config_path, label + " cannot be opened: " + std::strerror(errno));
-    struct stat st;
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || std::uint64_t(st.st_size) > kMaxLutBytes) {
-        ::close(fd);
-        throw Error(config_path, label + " changed while it was checked: refused");
-    }
-    std::string bytes(std::size_t(st.st_size), '\0');
-    std::size_t got = 0;
-    while (got < bytes.size()) {
-        const ssize_t n = ::read(fd, &bytes[got], bytes.size() - got);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        got += std::size_t(n);
-    }
-    ::close(fd);
-    bytes.resize(got);
-    return bytes;
-}
-
-// One LUT, resolved as Context::resolveFileLocation does: an absolute name as it is, a relative
-// one in the first search folder where something by that name exists; OCIO then opens the
-// lexically normalised path (so "x/../../y" leaves the folder without any x existing).
-// Returns the file's size.
-std::uint64_t check_lut(const std::string& config_path, const std::string& src, const std::string& resolved,
-                        const std::vector<std::string>& folders) {
-    const std::string name = "LUT " + quote(src);
-    std::string opened;
-    const bool absolute = !resolved.empty() && resolved.front() == '/';
-    if (absolute) {
-        if (stat_exists(resolved)) opened = fs::path(resolved).lexically_normal().string();
-    } else if (!resolved.empty()) {
-        for (const std::string& folder : folders) {
-            const std::string full = (fs::path(folder) / resolved).string();
-            if (!has_variables(full) && stat_exists(full)) {
-                opened = fs::path(full).lexically_normal().string();
-                break;
-            }
-        }
-    }
-    if (opened.empty())
-        throw Error(config_path, name + " not found" +
-                                     (absolute ? std::string() : " in the search path (" + join_quoted(folders) + ")"));
-    const std::string label = name + " (" + opened + ")";
-    struct stat st;
-    if (::stat(opened.c_str(), &st) != 0) throw Error(config_path, label + " cannot be read: " + std::strerror(errno));
-    if (!S_ISREG(st.st_mode)) throw Error(config_path, label + " is " + file_kind(st.st_mode) + ", not a regular file: refused");
-    if (std::uint64_t(st.st_size) > kMaxLutBytes)
-        throw Error(config_path, label + " is " + std::to_string(st.st_size) + " bytes, above npf's cap of " +
-                                     std::to_string(kMaxLutBytes) + " (256 MiB) for a LUT: refused");
-    std::error_code ec;
-    const fs::path real = fs::canonical(opened, ec);
-    bool inside = false;
-    for (const std::string& folder : folders) {
-        std::error_code fec;
-        const fs::path real_folder = fs::canonical(folder, fec);
-        if (!ec && !fec && is_under(real, real_folder)) inside = true;
-    }
-    if (!inside)
-        throw Error(config_path, label + " lies outside the config's search path (" + join_quoted(folders) +
-                                     (ec ? std::string() : "; it is " + real.string()) + "): refused");
-    const std::string bytes = read_lut(config_path, label, opened);
-    const std::string problem = lut_content_problem(bytes);
-    if (!problem.empty()) throw Error(config_path, label + ": " + problem + ": refused");
-    return bytes.size();
-}
-
-// The first FileTransform of any colour space, look, view transform or named transform (for a
-// reason OCIO leaves out). Only after check_config_graph: groups are then bounded.
-std::string first_file(const OCIO::ConstTransformRcPtr& t) {
-    if (!t) return {};
-    if (auto file = OCIO::DynamicPtrCast<const OCIO::FileTransform>(t)) return file->getSrc();
-    if (auto group = OCIO::DynamicPtrCast<const OCIO::GroupTransform>(t))
-        for (int i = 0; i < group->getNumTransforms(); ++i)
-            if (std::string f = first_file(group->getTransform(i)); !f.empty()) return f;
-    return {};
-}
-
-std::string first_file(const OCIO::Config& config) {
-    std::vector<OCIO::ConstTransformRcPtr> all;
-    for (int i = 0; i < config.getNumColorSpaces(OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ALL); ++i)
-        if (auto cs = config.getColorSpace(config.getColorSpaceNameByIndex(OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ALL, i)))
-            all.insert(all.end(), {cs->getTransform(OCIO::COLORSPACE_DIR_TO_REFERENCE), cs->getTransform(OCIO::COLORSPACE_DIR_FROM_REFERENCE)});
-    for (int i = 0; i < config.getNumLooks(); ++i)
-        if (auto look = config.getLook(config.getLookNameByIndex(i)))
-            all.insert(all.end(), {look->getTransform(), look->getInverseTransform()});
-    for (int i = 0; i < config.getNumViewTransforms(); ++i)
-        if (auto vt = config.getViewTransform(config.getViewTransformNameByIndex(i)))
-            all.insert(all.end(), {vt->getTransform(OCIO::VIEWTRANSFORM_DIR_TO_REFERENCE), vt->getTransform(OCIO::VIEWTRANSFORM_DIR_FROM_REFERENCE)});
-    for (int i = 0; i < config.getNumNamedTransforms(OCIO::NAMEDTRANSFORM_ALL); ++i)
-        if (auto nt = config.getNamedTransform(config.getNamedTransformNameByIndex(OCIO::NAMEDTRANSFORM_ALL, i)))
-            all.insert(all.end(), {nt->getTransform(OCIO::TRANSFORM_DIR_FORWARD), nt->getTransform(OCIO::TRANSFORM_DIR_INVERSE)});
-    for (const auto& t : all)
-        if (std::string f = first_file(t); !f.empty()) return f;
-    return {};
-}
-
-}  // namespace
 
 void check_config_text(const std::string& text, const std::string& path) {
     YAML::Node loaded;
@@ -677,7 +520,10 @@ void check_display_luts(const OCIO::Config& config, const std::string& path, con
         graph.visit_space(input);
         graph.visit_view(display, view);
         if (graph.files().empty()) return;
-        const std::vector<std::string> folders = search_folders(config, resolver);
+        std::vector<std::string> search_paths;
+        for (int i = 0; i < config.getNumSearchPaths(); ++i)
+            search_paths.push_back(resolver.resolve(config.getSearchPath(i), "the search path"));
+        const std::vector<std::string> folders = search_folders(config.getWorkingDir(), search_paths);
         // OCIO builds a table for each use of a LUT (1000 uses of one 7 MB .cube took 3 GB and
         // 14 s): the bytes of all uses together are bounded as one LUT's are.
         std::uint64_t total = 0, uses = 0;
@@ -692,33 +538,6 @@ void check_display_luts(const OCIO::Config& config, const std::string& path, con
     } catch (const OCIO::Exception& e) {
         throw Error(path, "cannot check the config's LUTs: " + ocio_reason(e, &config));
     }
-}
-
-std::string ocio_reason(const std::exception& e, const OCIO::Config* config) {
-    // One line: OCIO's lines joined (a LUT error puts each reader's complaint on a line of its own).
-    std::string text;
-    for (const char c : std::string(e.what())) {
-        const bool space = c == ' ' || c == '\t' || c == '\n' || c == '\r';
-        if (!space) text += c;
-        else if (!text.empty() && text.back() != ' ') text += ' ';
-    }
-    while (!text.empty() && text.back() == ' ') text.pop_back();
-    if (text.size() > kMaxReasonBytes) {
-        std::size_t cut = kMaxReasonBytes;
-        while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // UTF-8
-        text = text.substr(0, cut) + " ...";
-    }
-    if (text.empty()) return "OpenColorIO gave no reason";
-    // Config::validate says only this when the config names LUTs and has no search path at all.
-    if (text == "Config failed sanitycheck.") {
-        std::string cause = "OpenColorIO gave no reason";
-        if (config && config->getNumSearchPaths() == 0) {
-            const std::string file = first_file(*config);
-            if (!file.empty()) cause = "it names the LUT " + quote(file) + " but has no search_path to find it in";
-        }
-        text += " (" + cause + ")";
-    }
-    return text;
 }
 
 }  // namespace npf::color::detail

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <exception>
 #include <string>
+#include <vector>
 
 namespace npf::color::detail {
 
@@ -41,5 +42,24 @@ std::string ocio_reason(const std::exception& e, const OCIO_NAMESPACE::Config* c
 // a token longer than the fixed buffers OCIO's spi1d, spi3d and Discreet readers scan it into.
 // Checked whatever the file's extension: OCIO tries every reader on a file its own one fails on.
 std::string lut_content_problem(const std::string& bytes);
+
+// ---- Shared by the checks' files -------------------------------------------------------------
+
+// 'name', and 'a', 'b', 'c': names in messages.
+std::string quote(const std::string& s);
+std::string join_quoted(const std::vector<std::string>& items);
+
+// OCIO's ContainsContextVariables: a '$', or two distinct '%'.
+bool has_variables(const std::string& s);
+
+// The folders OCIO looks for a relative LUT name in (Context.cpp, GetAbsoluteSearchPaths): each
+// search path (its context variables resolved) trimmed, relative ones under the working dir,
+// normalised; the working dir when there is none. config_lut_files.cpp.
+std::vector<std::string> search_folders(const std::string& working, const std::vector<std::string>& search_paths);
+
+// One LUT named `src` (`resolved`: its context variables resolved), found and checked as
+// check_display_luts says; returns the file's size. config_lut_files.cpp.
+std::uint64_t check_lut(const std::string& config_path, const std::string& src, const std::string& resolved,
+                        const std::vector<std::string>& folders);
 
 }  // namespace npf::color::detail

@@ -6,6 +6,8 @@
 #include <npf/render/render_channels.h>
 #include <npf/render/sphere_scene.h>
 
+#include "row_tally.h"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -200,9 +202,7 @@ RenderResult render_directional(const Brdf& material, const std::vector<Directio
     const std::size_t width = options.width, height = options.height;
 
     RenderResult result = RenderResult::blank(rc.channels, width, height);
-    std::atomic<std::uint64_t> hits{0}, dropped{0};
-    std::atomic<std::size_t> rows_done{0};
-    std::mutex progress_mutex;
+    RowTally tally(height, progress);
 
     npf::parallel_for(height, [&](std::size_t y) {
         std::vector<float> f(n);
@@ -238,12 +238,9 @@ RenderResult render_directional(const Brdf& material, const std::vector<Directio
                 out[c] = float(v);
             }
         }
-        hits += row_hits;
-        dropped += row_dropped;
-        const std::lock_guard<std::mutex> lock(progress_mutex);
-        const std::size_t done = rows_done.fetch_add(1) + 1;
-        if (progress) progress(double(done) / double(height));
+        tally.add_row(row_hits, row_dropped);
     }, int(threads));
+    const std::uint64_t hits = tally.hits, dropped = tally.dropped;
 
     result.stats.camera_samples = std::uint64_t(width) * height;
     result.stats.hit_samples = hits;

@@ -7,6 +7,8 @@
 #include <npf/render/rng.h>
 #include <npf/render/sphere_scene.h>
 
+#include "row_tally.h"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -103,9 +105,7 @@ RenderResult render(const Brdf& material, const EnvironmentMap& environment, con
 
     RenderResult result = RenderResult::blank(rc.channels, width, height);
 
-    std::atomic<std::size_t> rows_done{0};
-    std::atomic<std::uint64_t> hits{0}, dropped{0};
-    std::mutex progress_mutex;
+    RowTally tally(height, progress);
 
     // One item per row: each pixel is computed by one thread, into its own slot.
     npf::parallel_for(height, [&](std::size_t y) {
@@ -174,14 +174,9 @@ RenderResult render(const Brdf& material, const EnvironmentMap& environment, con
             }
             out[3] = float(double(covered) * inv);
         }
-        hits += row_hits;
-        dropped += row_dropped;
-        // Counted under the lock that reports it: counted outside, a row finished later could
-        // report before an earlier one, and the fraction would go back (a flaky test showed it).
-        const std::lock_guard<std::mutex> lock(progress_mutex);
-        const std::size_t done = rows_done.fetch_add(1) + 1;
-        if (progress) progress(double(done) / double(height));
+        tally.add_row(row_hits, row_dropped);
     }, int(threads));
+    const std::uint64_t hits = tally.hits, dropped = tally.dropped;
 
     result.stats.camera_samples = std::uint64_t(width) * height * spp;
     result.stats.hit_samples = hits;

@@ -39,25 +39,31 @@ double detail_value(const NpfModel& m, const NpfModel::Lookup& at, std::size_t c
     return r;
 }
 
+// The mean of term(u, v) over the centres of kStrata x kStrata strata of the unit square, for the
+// quadratures at normal incidence below (a stratum that contributes nothing gives 0).
+template <class Term>
+double strata_mean(const Term& term) {
+    constexpr int kStrata = 32;
+    double sum = 0.0;
+    for (int a = 0; a < kStrata; ++a)
+        for (int b = 0; b < kStrata; ++b) sum += term((a + 0.5f) / kStrata, (b + 0.5f) / kStrata);
+    return sum / (kStrata * kStrata);
+}
+
 // Directional albedo of the specular term at normal incidence, luminance weighted: a quadrature
 // over the half-vector sampler's own strata, used only to balance the two sampling strategies.
 double specular_albedo_at_normal(const NpfModel& m, const HalfVectorSampler& sampler, const std::vector<double>& y) {
-    constexpr int kStrata = 32;
     const Vec3 normal(0.f, 0.f, 1.f);
-    double sum = 0.0;
     NpfModel::Lookup at;
-    for (int a = 0; a < kStrata; ++a) {
-        for (int b = 0; b < kStrata; ++b) {
-            const Vec3 h = sampler.sample((a + 0.5f) / kStrata, (b + 0.5f) / kStrata);
-            const Vec3 light = reflect(normal, h);
-            const double pdf = sampler.pdf(h) / (4.0 * std::max(double(h.z), 1e-12));
-            if (!(light.z > 0.f) || !(pdf > 0.0) || !m.prepare(normal, light, at)) continue;
-            double f = 0.0;
-            for (std::size_t c = 0; c < y.size(); ++c) f += y[c] * (m.value(at, c) - m.rho_d[c] - detail_value(m, at, c));
-            sum += f * light.z / pdf;
-        }
-    }
-    return std::max(0.0, sum / (kStrata * kStrata));
+    return std::max(0.0, strata_mean([&](float u, float v) {
+        const Vec3 h = sampler.sample(u, v);
+        const Vec3 light = reflect(normal, h);
+        const double pdf = sampler.pdf(h) / (4.0 * std::max(double(h.z), 1e-12));
+        if (!(light.z > 0.f) || !(pdf > 0.0) || !m.prepare(normal, light, at)) return 0.0;
+        double f = 0.0;
+        for (std::size_t c = 0; c < y.size(); ++c) f += y[c] * (m.value(at, c) - m.rho_d[c] - detail_value(m, at, c));
+        return f * light.z / pdf;
+    }));
 }
 
 // The same for the detail layer's positive part, by cosine-weighted strata: a residual that adds
@@ -65,20 +71,15 @@ double specular_albedo_at_normal(const NpfModel& m, const HalfVectorSampler& sam
 // cosine strategy, so it counts on the diffuse side of the balance.
 double detail_albedo_at_normal(const NpfModel& m, const std::vector<double>& y) {
     if (!m.has_detail()) return 0.0;
-    constexpr int kStrata = 32;
     const Vec3 normal(0.f, 0.f, 1.f);
-    double sum = 0.0;
     NpfModel::Lookup at;
-    for (int a = 0; a < kStrata; ++a) {
-        for (int b = 0; b < kStrata; ++b) {
-            const Vec3 light = cosine_hemisphere_direction(Vec2{(a + 0.5f) / kStrata, (b + 0.5f) / kStrata});
-            if (!m.prepare(normal, light, at)) continue;
-            double r = 0.0;
-            for (std::size_t c = 0; c < y.size(); ++c) r += y[c] * detail_value(m, at, c);
-            sum += std::max(0.0, r) * kPiD;  // f cos / (cos / pi)
-        }
-    }
-    return sum / (kStrata * kStrata);
+    return strata_mean([&](float u, float v) {
+        const Vec3 light = cosine_hemisphere_direction(Vec2{u, v});
+        if (!m.prepare(normal, light, at)) return 0.0;
+        double r = 0.0;
+        for (std::size_t c = 0; c < y.size(); ++c) r += y[c] * detail_value(m, at, c);
+        return std::max(0.0, r) * kPiD;  // f cos / (cos / pi)
+    });
 }
 
 }  // namespace

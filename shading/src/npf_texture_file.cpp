@@ -50,83 +50,6 @@ std::string quoted(const std::string& s) { return "'" + s + "'"; }
 using Part = NpfTexturePart;
 using PartSource = NpfTexturePartSource;
 
-class FileSource final : public PartSource {
-public:
-    explicit FileSource(const std::string& path) : m_path(path) {}
-
-    std::vector<Part> parts() override {
-        m_input = OIIO::ImageInput::create("openexr");
-        if (!m_input) throw Error(m_path, "this build of OpenImageIO cannot read OpenEXR: " + OIIO::geterror());
-        ImageSpec spec;
-        if (!m_input->open(m_path, spec)) {
-            throw Error(m_path, "cannot read the OpenEXR headers: " + first_line(m_input->geterror()));
-        }
-        // The header says how many parts there are: a part OpenImageIO refuses (more channels than
-        // its limits:channels, say) is named with its reason, not taken for a missing part.
-        const int count = spec.get_int_attribute("oiio:subimages", 1);
-        std::vector<Part> parts;
-        for (int i = 0; i < count; ++i) {
-            if (!m_input->seek_subimage(i, 0))
-                throw Error(m_path, "OpenImageIO cannot open part " + std::to_string(i + 1) + " of " + std::to_string(count) + ": " +
-                                        first_line(m_input->geterror()));
-            Part p;
-            p.subimage = i;
-            p.spec = m_input->spec();
-            parts.push_back(std::move(p));
-        }
-        // (OpenEXR itself guarantees that part names are unique.)
-        return parts;
-    }
-
-    bool read(const Part& p, float* pixels, std::string& why) override {
-        const bool ok = m_input->read_image(p.subimage, 0, 0, p.spec.nchannels, OIIO::TypeFloat, pixels);
-        if (!ok) why = first_line(m_input->geterror());
-        return ok;
-    }
-
-private:
-    std::string m_path;
-    std::unique_ptr<OIIO::ImageInput> m_input;
-};
-
-class TextureSystemSource final : public PartSource {
-public:
-    TextureSystemSource(const std::string& path, OIIO::TextureSystem& ts) : m_path(path), m_name(path), m_ts(ts) {}
-
-    std::vector<Part> parts() override {
-        int count = 0;
-        if (!m_ts.get_texture_info(m_name, 0, OIIO::ustring("subimages"), OIIO::TypeInt, &count) || count < 1) {
-            throw Error(m_path, "the TextureSystem cannot open it: " + first_line(m_ts.geterror()));
-        }
-        std::vector<Part> parts;
-        for (int i = 0; i < count; ++i) {
-            Part p;
-            p.subimage = i;
-            if (!m_ts.get_imagespec(m_name, i, p.spec)) {
-                throw Error(m_path, "the TextureSystem cannot read part " + std::to_string(i) + ": " +
-                                        first_line(m_ts.geterror()));
-            }
-            parts.push_back(std::move(p));
-        }
-        return parts;
-    }
-
-    bool read(const Part& p, float* pixels, std::string& why) override {
-        OIIO::TextureOpt opt;
-        opt.subimage = p.subimage;
-        const ImageSpec& s = p.spec;
-        const bool ok = m_ts.get_texels(m_name, opt, 0, s.x, s.x + s.width, s.y, s.y + s.height, s.z,
-                                        s.z + std::max(s.depth, 1), 0, s.nchannels, OIIO::TypeFloat, pixels);
-        if (!ok) why = first_line(m_ts.geterror());
-        return ok;
-    }
-
-private:
-    std::string m_path;
-    OIIO::ustring m_name;
-    OIIO::TextureSystem& m_ts;
-};
-
 class Reader {
 public:
     Reader(const std::string& path, std::unique_ptr<PartSource> source, std::uint64_t stored_bytes)
@@ -543,40 +466,6 @@ bool has_tiff_magic(const unsigned char* head, std::size_t size) {
     return little || big;
 }
 
-std::string tables_checksum(const NpfModel& m) {
-    std::uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a 64: offset basis and prime
-    const auto add = [&hash](float value) {
-        std::uint32_t bits;
-        std::memcpy(&bits, &value, sizeof bits);
-        for (int byte = 0; byte < 4; ++byte) {
-            hash ^= (bits >> (8 * byte)) & 0xffu;
-            hash *= 0x100000001b3ull;
-        }
-    };
-    const auto add_all = [&add](const std::vector<float>& values) {
-        for (float v : values) add(v);
-    };
-    const std::size_t C = m.channel_count();
-    const auto add_weights = [&](const SpectralBasis& s) {  // channel k of the spectral part: weight k of every c
-        const std::size_t rank = std::size_t(s.rank);
-        for (std::size_t k = 0; k < rank; ++k)
-            for (std::size_t c = 0; c < C; ++c) add(s.weights[c * rank + k]);
-    };
-    add_all(m.D.basis);
-    add_all(m.G.basis);
-    add_all(m.F);
-    for (std::size_t c = 0; c < C; ++c) add(m.channels.is_rgb() ? float(c) : m.channels.wavelengths()[c]);
-    add_all(m.rho_d);
-    add_all(m.rho_s);
-    add_weights(m.D);
-    add_weights(m.G);
-    add_weights(m.detail);
-    add_all(m.detail.basis);
-    char text[32];
-    std::snprintf(text, sizeof text, "fnv1a64:%016llx", static_cast<unsigned long long>(hash));
-    return text;
-}
-
 namespace {
 
 // Checks the OpenEXR headers before OpenEXR and OpenImageIO see them, for two problems fuzzing
@@ -618,10 +507,10 @@ NpfModel read_npf_texture_parts(const std::string& path, std::unique_ptr<NpfText
     }
 }
 
-NpfModel read_npf_texture(const std::string& path) { return read_with(path, std::make_unique<FileSource>(path)); }
+NpfModel read_npf_texture(const std::string& path) { return read_with(path, file_part_source(path)); }
 
 NpfModel read_npf_texture(const std::string& path, OIIO::TextureSystem& ts) {
-    return read_with(path, std::make_unique<TextureSystemSource>(path, ts));
+    return read_with(path, texture_system_part_source(path, ts));
 }
 
 bool is_npf_texture_or_copy(const std::string& path) {

@@ -8,6 +8,7 @@
 #include <npf/shading/npf_model.h>
 
 #include <OpenImageIO/imageio.h>
+#include <OpenImageIO/texture.h>
 
 #include <cstdint>
 #include <memory>
@@ -33,7 +34,12 @@ public:
     virtual bool read(const NpfTexturePart& p, float* pixels, std::string& why) = 0;
 };
 
-// The value of npf:tables_checksum for `model` (docs/format.md sec. 4): "fnv1a64:" and 16 lowercase
+// The two sources read_npf_texture uses (npf_texture_sources.cpp): the file, through
+// OpenImageIO's ImageInput, and a TextureSystem's cache of it.
+std::unique_ptr<NpfTexturePartSource> file_part_source(const std::string& path);
+std::unique_ptr<NpfTexturePartSource> texture_system_part_source(const std::string& path, OIIO::TextureSystem& ts);
+
+// The value of npf:tables_checksum for `model` (docs/format.md sec. 4; npf_texture_checksum.cpp): "fnv1a64:" and 16 lowercase
 // hex digits, FNV-1a (64 bits) over every value the parts hold, part by part in the order D, G,
 // F, spectral, detail, channel by channel in the order the format lists them, each channel's
 // pixels in scanline order, as little-endian float32 bytes. The writer stores it; the reader

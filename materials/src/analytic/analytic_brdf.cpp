@@ -73,13 +73,8 @@ void basis(const Vec3& n, Vec3& t, Vec3& b) {
     b = Vec3(c, sign + n.y * n.y * a, -n.y);
 }
 
-}  // namespace
-
-AnalyticBrdf::AnalyticBrdf(AnalyticMaterial material) : m_material(std::move(material)) {
-    const std::string& src = m_material.name.empty() ? std::string("analytic material") : m_material.name;
-    AnalyticMaterial& m = m_material;
-
-    // ---- validation: every problem names the material ----
+// Checks the material (every problem names it, as `src`); fills in the default wavelengths.
+void validate(AnalyticMaterial& m, const std::string& src) {
     if (m.wavelengths.empty()) m.wavelengths = default_wavelengths();
     for (std::size_t i = 0; i < m.wavelengths.size(); ++i) {
         const float l = m.wavelengths[i];
@@ -112,8 +107,10 @@ AnalyticBrdf::AnalyticBrdf(AnalyticMaterial material) : m_material(std::move(mat
         throw Error(src, "retro-reflection exponent " + number_text(m.retro_exponent) + " is outside [0, 1e6]");
     if (!(m.sheen_roughness > 0.f && m.sheen_roughness <= 1.f))
         throw Error(src, "sheen roughness " + number_text(m.sheen_roughness) + " is outside (0, 1]");
+}
 
-    // ---- the value bound (brdf.h): each term's largest f_r cos_i cos_o ----
+// The value bound (brdf.h): each term's largest f_r cos_i cos_o.
+double value_bound(const AnalyticMaterial& m) {
     // Specular: w D F G1 G1 / 4 with F, G1 <= 1 and D <= 1 / (pi alpha_x alpha_y) (GGX and
     // Beckmann peak at the pole); retro: w (n + 1) / (2 pi); sheen: w D_s cos_i cos_o /
     // (4 (cos_i + cos_o - cos_i cos_o)) <= w (2 + 1/a) / (8 pi); diffuse rho_d / pi. Spectra are
@@ -126,28 +123,42 @@ AnalyticBrdf::AnalyticBrdf(AnalyticMaterial material) : m_material(std::move(mat
         bound += largest(lobe.weight) / (4.0 * kPiD * double(lobe.ndf.alpha_x) * double(lobe.ndf.alpha_y));
     bound += largest(m.retroreflection) * (double(m.retro_exponent) + 1.0) / (2.0 * kPiD);
     bound += largest(m.sheen) * (2.0 + 1.0 / double(m.sheen_roughness)) / (8.0 * kPiD);
-    check_value_bound(src, bound, "the sum of its lobes' peaks");
-    m_info.value_bound = bound;
+    return bound;
+}
 
-    // ---- info ----
-    m_info.format = "analytic";
-    m_info.path = "";
-    m_info.description = m.name;
-    m_info.isotropic = std::all_of(m.specular.begin(), m.specular.end(),
+// What `npf info` shows.
+void describe(const AnalyticMaterial& m, BrdfInfo& info) {
+    info.format = "analytic";
+    info.path = "";
+    info.description = m.name;
+    info.isotropic = std::all_of(m.specular.begin(), m.specular.end(),
                                    [](const SpecularLobe& l) { return l.ndf.isotropic(); });
-    m_info.channels = Channels::spectral(m.wavelengths);
-    m_info.details.emplace_back("specular lobes", std::to_string(m.specular.size()));
+    info.channels = Channels::spectral(m.wavelengths);
+    info.details.emplace_back("specular lobes", std::to_string(m.specular.size()));
     for (std::size_t k = 0; k < m.specular.size(); ++k) {
         const MicrofacetNdf& n = m.specular[k].ndf;
-        m_info.details.emplace_back("lobe " + std::to_string(k),
+        info.details.emplace_back("lobe " + std::to_string(k),
                                     std::string(distribution_name(n.type)) + " alpha " + number_text(n.alpha_x) + " x " +
                                         number_text(n.alpha_y) + ", rotation " + number_text(n.rotation) + " rad, " +
                                         fresnel_name(m.specular[k].fresnel.kind()) + " Fresnel");
     }
-    m_info.details.emplace_back("diffuse", m.diffuse.empty() ? "no" : "yes");
-    m_info.details.emplace_back("retro-reflection",
+    info.details.emplace_back("diffuse", m.diffuse.empty() ? "no" : "yes");
+    info.details.emplace_back("retro-reflection",
                                 m.retroreflection.empty() ? "no" : "yes, exponent " + number_text(m.retro_exponent));
-    m_info.details.emplace_back("sheen", m.sheen.empty() ? "no" : "yes, roughness " + number_text(m.sheen_roughness));
+    info.details.emplace_back("sheen", m.sheen.empty() ? "no" : "yes, roughness " + number_text(m.sheen_roughness));
+}
+
+}  // namespace
+
+AnalyticBrdf::AnalyticBrdf(AnalyticMaterial material) : m_material(std::move(material)) {
+    const std::string& src = m_material.name.empty() ? std::string("analytic material") : m_material.name;
+    AnalyticMaterial& m = m_material;
+
+    validate(m, src);
+    const double bound = value_bound(m);
+    check_value_bound(src, bound, "the sum of its lobes' peaks");
+    m_info.value_bound = bound;
+    describe(m, m_info);
 
     // ---- lookup tables ----
     m_rgb_wavelengths.resize(kGridSize);

@@ -93,27 +93,17 @@ void require_values(const color::SampledSpectrum& s, const char* what, double lo
 Fresnel Fresnel::conductor(color::SampledSpectrum eta, color::SampledSpectrum k) {
     require_values(eta, "conductor eta", 0.0, false);
     require_values(k, "conductor k", 0.0, true);
-    Fresnel f;
-    f.m_kind = Kind::Conductor;
-    f.m_a = std::move(eta);
-    f.m_b = std::move(k);
-    return f;
+    return Fresnel(Kind::Conductor, std::move(eta), std::move(k));
 }
 
 Fresnel Fresnel::dielectric(color::SampledSpectrum eta) {
     require_values(eta, "dielectric eta", 0.0, false);
-    Fresnel f;
-    f.m_kind = Kind::Dielectric;
-    f.m_a = std::move(eta);
-    return f;
+    return Fresnel(Kind::Dielectric, std::move(eta));
 }
 
 Fresnel Fresnel::schlick(color::SampledSpectrum f0) {
     require_values(f0, "Schlick F0", 0.0, true, 1.0);
-    Fresnel f;
-    f.m_kind = Kind::Schlick;
-    f.m_a = std::move(f0);
-    return f;
+    return Fresnel(Kind::Schlick, std::move(f0));
 }
 
 Fresnel Fresnel::thin_film(double thickness_nm, color::SampledSpectrum film_eta, color::SampledSpectrum base_eta,
@@ -124,13 +114,7 @@ Fresnel Fresnel::thin_film(double thickness_nm, color::SampledSpectrum film_eta,
     require_values(film_eta, "thin-film eta", 0.0, false);
     require_values(base_eta, "thin-film base eta", 0.0, false);
     require_values(base_k, "thin-film base k", 0.0, true);
-    Fresnel f;
-    f.m_kind = Kind::ThinFilm;
-    f.m_a = std::move(film_eta);
-    f.m_b = std::move(base_eta);
-    f.m_c = std::move(base_k);
-    f.m_thickness_nm = thickness_nm;
-    return f;
+    return Fresnel(Kind::ThinFilm, std::move(film_eta), std::move(base_eta), std::move(base_k), thickness_nm);
 }
 
 Fresnel Fresnel::one() { return Fresnel(); }

@@ -11,7 +11,7 @@
 // because the data are reciprocal.
 #pragma once
 
-#include <npf/core/brdf.h>
+#include <npf/materials/isotropic_rgb_brdf.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -35,7 +35,7 @@ constexpr double kMerlScaleRed = 1.0 / 1500.0;
 constexpr double kMerlScaleGreen = 1.15 / 1500.0;
 constexpr double kMerlScaleBlue = 1.66 / 1500.0;
 
-class MerlBrdf final : public Brdf {
+class MerlBrdf final : public IsotropicRgbBrdf {
 public:
     // Throws npf::Error naming the file and the problem (missing, directory, empty, truncated,
     // bad dimensions, non-finite values).
@@ -50,13 +50,8 @@ public:
     // padded, which the loader then names as such.
     static bool has_plausible_header(const std::uint8_t* head, std::size_t head_size, std::uint64_t file_size);
 
-    const BrdfInfo& info() const override { return m_info; }
-    void eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& query,
-                  float* out) const override;
-    // Cosine-weighted hemisphere sampling of wo (MERL files carry no sampling tables).
-    float pdf(const Vec3& wi, const Vec3& wo) const override;
-    bool sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
-                float* weight) const override;
+    // pdf and sample: cosine-weighted (MERL files carry no sampling tables).
+    void eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& query, float* out) const override;
 
     MerlLookup lookup() const { return m_lookup; }
     int theta_h_bins() const { return m_n_th; }
@@ -79,7 +74,6 @@ private:
     void lookup_nearest(const double in[3], const double out[3], double rgb[3]) const;
     void lookup_linear(const double in[3], const double out[3], double rgb[3]) const;
 
-    BrdfInfo m_info;
     MerlLookup m_lookup = MerlLookup::Nearest;
     int m_n_th = 0, m_n_td = 0, m_n_pd = 0;
     std::size_t m_bins = 0;

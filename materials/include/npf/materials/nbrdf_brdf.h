@@ -14,7 +14,7 @@
 // does with Mitsuba's bRec.wo.
 #pragma once
 
-#include <npf/core/brdf.h>
+#include <npf/materials/isotropic_rgb_brdf.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -24,7 +24,7 @@
 
 namespace npf {
 
-class NbrdfBrdf final : public Brdf {
+class NbrdfBrdf final : public IsotropicRgbBrdf {
 public:
     // Widest hidden layer accepted: evaluation keeps the activations on the stack.
     static constexpr int kMaxHiddenUnits = 256;
@@ -44,13 +44,8 @@ public:
     // Format sniffing: the HDF5 signature at the start of the file.
     static bool has_hdf5_signature(const std::uint8_t* head, std::size_t head_size);
 
-    const BrdfInfo& info() const override { return m_info; }
-    void eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& query,
-                  float* out) const override;
-    // Cosine-weighted hemisphere sampling of wo: the network carries no sampling data.
-    float pdf(const Vec3& wi, const Vec3& wo) const override;
-    bool sample(const Vec3& wi, const Vec2& u, const ChannelQuery& query, BrdfSample& s,
-                float* weight) const override;
+    // pdf and sample: cosine-weighted (the network has no inverse).
+    void eval_cos(const Vec3& wi, const Vec3& wo, const ChannelQuery& query, float* out) const override;
 
     // The network's six inputs for one direction pair (both above the horizon).
     static void network_input(const Vec3& wi, const Vec3& wo, float input[kInputs]);
@@ -70,7 +65,6 @@ private:
         std::vector<float> bias;    // stride, zero padding
     };
 
-    BrdfInfo m_info;
     DenseLayer m_layers[3];
 };
 

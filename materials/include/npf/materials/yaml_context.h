@@ -21,6 +21,10 @@ struct YamlContext {
     // Unknown keys are reported as 'parent.key' rather than 'key' (batch files nest settings).
     bool qualify_unknown_keys = false;
 
+    // The document `yaml` holds; a syntax error is an npf::Error at "source:LINE" ("not valid
+    // YAML: ..."). For every recipe and configuration parser, so that all name it alike.
+    YAML::Node load(const std::string& yaml) const;
+
     // "source:LINE" where the node has a position, else "source".
     std::string where(const YAML::Node& node) const;
     [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const;

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 
 namespace npf {
 
@@ -15,6 +16,7 @@ class Fresnel {
 public:
     enum class Kind { Conductor, Dielectric, Schlick, ThinFilm, One };
 
+    Fresnel() = default;  // one()
     static Fresnel conductor(color::SampledSpectrum eta, color::SampledSpectrum k);
     static Fresnel dielectric(color::SampledSpectrum eta);
     static Fresnel schlick(color::SampledSpectrum f0);
@@ -46,6 +48,10 @@ public:
     void eval(double cos_theta_d, const Coefficients* coefficients, std::size_t n, double* out) const;
 
 private:
+    Fresnel(Kind kind, color::SampledSpectrum a, color::SampledSpectrum b = {}, color::SampledSpectrum c = {},
+            double thickness_nm = 0.0)
+        : m_kind(kind), m_a(std::move(a)), m_b(std::move(b)), m_c(std::move(c)), m_thickness_nm(thickness_nm) {}
+
     Kind m_kind = Kind::One;
     color::SampledSpectrum m_a, m_b, m_c;  // eta/k, eta, f0, or film eta / base eta / base k
     double m_thickness_nm = 0.0;
