@@ -172,13 +172,7 @@ MaterialRecipe parse_material_recipe(const std::string& yaml, const std::string&
     Context cx;
     cx.source = source;
     cx.base_dir = base_dir;
-    YAML::Node root;
-    try {
-        root = YAML::Load(yaml);
-    } catch (const YAML::ParserException& e) {
-        throw Error(source + ":" + std::to_string(e.mark.line + 1), "not valid YAML: " + e.msg);
-    }
-    if (!root.IsMap()) throw Error(source, "a material recipe is a YAML mapping (name, lobes, diffuse, ...)");
+    const YAML::Node root = cx.load_mapping(yaml, "a material recipe is a YAML mapping (name, lobes, diffuse, ...)");
     cx.only(root, "", {"name", "output", "wavelengths", "lobes", "diffuse", "retroreflection", "sheen", "grid",
                        "anisotropy"});
     MaterialRecipe r;

@@ -21,6 +21,10 @@ struct YamlContext {
     // Unknown keys are reported as 'parent.key' rather than 'key' (batch files nest settings).
     bool qualify_unknown_keys = false;
 
+    // The document `yaml`, which must be a mapping: a syntax error throws npf::Error
+    // ("source:LINE", "not valid YAML: ..."), another document Error(source, not_a_mapping).
+    YAML::Node load_mapping(const std::string& yaml, const std::string& not_a_mapping) const;
+
     // "source:LINE" where the node has a position, else "source".
     std::string where(const YAML::Node& node) const;
     [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const;
