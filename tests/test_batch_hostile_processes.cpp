@@ -34,23 +34,25 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace batch = npf::batch;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::has_temporaries;
-using npf::testing::material_library;
-using npf::testing::process_with;
-using npf::testing::read_text;
-using npf::testing::reason_of;
-using npf::testing::run_npf;
-using npf::testing::RunOptions;
-using npf::testing::start_tool;
-using npf::testing::statuses;
-using npf::testing::ToolRun;
-using npf::testing::wait_for;
-using npf::testing::wait_for_worker;
-using npf::testing::write_batch_config;
-using npf::testing::write_test_material;
-using npf::testing::write_text;
+// The batch's process helpers (batch_processes.h) and tool runs (run_tool.h, batch_runs.h).
+using namespace npf::testing;
+
+// `npf batch CONFIG` started in the background, material `name` hanging in the tests'
+// fault-injecting worker; its output into `log` + ".out" / ".err".
+pid_t start_with_hanging(const std::string& config, const std::string& name, const std::string& log) {
+    RunOptions hang;
+    hang.env = {"NPF_TEST_FAULT=hang:" + name};
+    return start_tool({"batch", config, "--worker-executable", NPF_FAULT_WORKER_PATH}, log, hang);
+}
+
+// The next run converts `converted` and skips glossy, to the bytes of an uninterrupted batch.
+void expect_resumes(const std::string& dir, const std::string& cfg, const std::string& converted) {
+    const ToolRun resumed = run_npf({"batch", cfg});
+    ASSERT_EQ(resumed.status, 0) << describe(resumed);
+    EXPECT_EQ(statuses(dir + "/out/batch-summary.json"),
+              (std::map<std::string, std::string>{{"glossy", "skipped"}, {converted, "converted"}}));
+    EXPECT_TRUE(exr_outputs_of(dir + "/ref") == exr_outputs_of(dir + "/out"));
+}
 
 // Two materials, the second (in name order) slow enough (about a second) to be caught converting.
 std::string slow_library(const std::string& tag, std::string& extra) {
@@ -87,11 +89,7 @@ TEST(BatchHostile, AWorkerKilledOrTerminatedFailsItsMaterialAndTheNextRunResumes
         EXPECT_FALSE(has_temporaries(dir + "/out"));
         EXPECT_TRUE(npf::testing::folder_entries(dir + "/out/.npf-batch/shard-0-of-1").empty());
     }
-    const ToolRun resumed = run_npf({"batch", cfg});
-    ASSERT_EQ(resumed.status, 0) << describe(resumed);
-    EXPECT_EQ(statuses(dir + "/out/batch-summary.json"),
-              (std::map<std::string, std::string>{{"glossy", "skipped"}, {"middle", "converted"}}));
-    EXPECT_TRUE(npf::testing::exr_outputs_of(dir + "/ref") == npf::testing::exr_outputs_of(dir + "/out"));
+    expect_resumes(dir, cfg, "middle");
 }
 
 // SIGTERM of the batch (Slurm's scancel, a timeout) while a worker converts: the worker is killed,
@@ -102,9 +100,7 @@ TEST(BatchHostile, SigtermOfTheBatchLeavesNothingBehindAndTheNextRunResumes) {
     const std::string ref = write_batch_config(dir + "/ref.yaml", dir + "/in", dir + "/ref");
     const std::string cfg = write_batch_config(dir + "/b.yaml", dir + "/in", dir + "/out");
     ASSERT_EQ(run_npf({"batch", ref, "--quiet"}).status, 0);
-    RunOptions hang;
-    hang.env = {"NPF_TEST_FAULT=hang:stuck"};
-    const pid_t batch_pid = start_tool({"batch", cfg, "--worker-executable", NPF_FAULT_WORKER_PATH}, dir + "/stopped", hang);
+    const pid_t batch_pid = start_with_hanging(cfg, "stuck", dir + "/stopped");
     const pid_t worker = wait_for_worker(dir + "/out", "stuck");
     ASSERT_GT(worker, 0) << read_text(dir + "/stopped.err");
     ::kill(batch_pid, SIGTERM);
@@ -116,11 +112,7 @@ TEST(BatchHostile, SigtermOfTheBatchLeavesNothingBehindAndTheNextRunResumes) {
     EXPECT_TRUE(npf::testing::folder_entries(dir + "/out/.npf-batch/shard-0-of-1").empty());
     EXPECT_EQ(npf::testing::folder_entries(dir + "/out"), (std::vector<std::string>{".npf-batch", "glossy.exr"}));
 
-    const ToolRun resumed = run_npf({"batch", cfg});
-    ASSERT_EQ(resumed.status, 0) << describe(resumed);
-    EXPECT_EQ(statuses(dir + "/out/batch-summary.json"),
-              (std::map<std::string, std::string>{{"glossy", "skipped"}, {"stuck", "converted"}}));
-    EXPECT_TRUE(npf::testing::exr_outputs_of(dir + "/ref") == npf::testing::exr_outputs_of(dir + "/out"));
+    expect_resumes(dir, cfg, "stuck");
 }
 
 // Two batches on one output folder at once: the same shard (of the same or of another
@@ -135,9 +127,7 @@ TEST(BatchHostile, TwoBatchesOnOneOutputFolder) {
     const std::string holding = write_batch_config(dir + "/holding.yaml", dir + "/hang", dir + "/out");
     ASSERT_EQ(run_npf({"batch", ref, "--quiet"}).status, 0);
 
-    RunOptions hang;
-    hang.env = {"NPF_TEST_FAULT=hang:stuck"};
-    const pid_t holder = start_tool({"batch", holding, "--worker-executable", NPF_FAULT_WORKER_PATH}, dir + "/holder", hang);
+    const pid_t holder = start_with_hanging(holding, "stuck", dir + "/holder");
     ASSERT_GT(wait_for_worker(dir + "/out", "stuck"), 0) << read_text(dir + "/holder.err");
     const std::string held = "npf batch: error: " + dir +
                              "/out/.npf-batch/shard-0-of-1.lock: another npf batch is running this shard in this output folder "
