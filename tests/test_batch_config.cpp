@@ -164,7 +164,7 @@ TEST(BatchConfig, ErrorsNameTheLineAndTheKey) {
         {"output_dir: out\ninputs: a.bsdf\nnaming: out.exr\n", "cfg.yaml:3: key 'naming': must contain {name}"},
         {"output_dir: out\ninputs: a.bsdf\nnaming: '{name}.png'\n", "key 'naming': must end in .exr"},
         {"output_dir: out\ninputs: a.bsdf\nversion: 2\n", "cfg.yaml:3: key 'version': only version 1 is known"},
-        {"output_dir: out\ninputs: [a.bsdf\n", "cfg.yaml:3: YAML:"},
+        {"output_dir: out\ninputs: [a.bsdf\n", "cfg.yaml:3: not valid YAML:"},
         {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  preset: preview\n  preset: paper\n", "cfg.yaml:5: key 'preset': given twice"},
         {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  wavelengths: 700:400:x\n", "cfg.yaml:4: key 'defaults.wavelengths':"},
         {"output_dir: out\ninputs: a.bsdf\ndefaults:\n  edit:\n", "cfg.yaml:4: key 'edit': has no value"},

@@ -1,11 +1,11 @@
 // `npf batch` against a hostile file system (issue 33, docs/reliability.md sec. 3): links planted
 // at the places the batch owns (its work folder, shard folder, lock, renders, default summary)
-// are refused with a line naming them, and nothing outside the output folder changes; a worker
-// or the batch itself killed or terminated mid-material leaves nothing behind and the next run
-// resumes to the same bytes; two batches over one output folder; read-only folders; a glob that
+// are refused with a line naming them, and nothing outside the output folder changes (processes
+// that die or compete: test_batch_hostile_processes.cpp); read-only folders; a glob that
 // meets a FIFO, a socket, a device or a dangling link says so; control characters in file names
 // never split a line; text inputs are bounded; an output that is an input (through a link or a
 // hard link) or another output is refused before any work.
+#include "batch_processes.h"
 #include "batch_runs.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
@@ -39,48 +39,19 @@ namespace fs = std::filesystem;
 namespace batch = npf::batch;
 using npf::testing::contains;
 using npf::testing::describe;
+using npf::testing::material_library;
 using npf::testing::read_text;
+using npf::testing::reason_of;
+using npf::testing::RunOptions;
+using npf::testing::statuses;
 using npf::testing::ToolRun;
+using npf::testing::tree_of;
 using npf::testing::write_batch_config;
+using npf::testing::write_test_material;
 using npf::testing::write_text;
 
-void write_material(const std::string& path, float alpha) {
-    npf::testing::SyntheticRglSpec s;
-    s.theta_count = 5;
-    s.ndf_size = 16;
-    s.vndf_size = 8;
-    s.data_size = 8;
-    s.alpha_x = s.alpha_y = alpha;
-    npf::testing::write_synthetic_rgl(s, path);
-}
-
-// A folder with the named materials in `in/`.
-std::string library(const std::string& tag, const std::vector<std::string>& names) {
-    const std::string dir = npf::testing::temporary_folder(tag);
-    fs::create_directories(dir + "/in");
-    for (std::size_t i = 0; i < names.size(); ++i) write_material(dir + "/in/" + names[i] + ".bsdf", 0.2f + 0.1f * float(i));
-    return dir;
-}
-
-// Every entry under `dir` that is not under `skip` (a path relative to it), by kind and content:
-// links are listed, never followed.
-std::map<std::string, std::string> tree_of(const std::string& dir, const std::string& skip = "") {
-    std::map<std::string, std::string> tree;
-    std::error_code ec;
-    for (auto it = fs::recursive_directory_iterator(dir, ec); it != fs::recursive_directory_iterator(); it.increment(ec)) {
-        const std::string rel = fs::relative(it->path(), dir, ec).string();
-        if (!skip.empty() && (rel == skip || rel.rfind(skip + "/", 0) == 0)) {
-            if (it->is_directory(ec) && !it->is_symlink(ec)) it.disable_recursion_pending();
-            continue;
-        }
-        const fs::file_status st = it->symlink_status(ec);
-        if (st.type() == fs::file_type::symlink) tree[rel] = "link to " + fs::read_symlink(it->path(), ec).string();
-        else if (st.type() == fs::file_type::directory) tree[rel] = "folder";
-        else if (st.type() == fs::file_type::regular) tree[rel] = "file of hash " + std::to_string(std::hash<std::string>()(read_text(it->path().string())));
-        else tree[rel] = "special";
-    }
-    return tree;
-}
+// `npf args...` run to its end (or its deadline).
+ToolRun run(const std::vector<std::string>& args, const RunOptions& o = {}) { return npf::testing::run_npf(args, o); }
 
 // A victim tree outside the output folder: files and a folder with a file.
 void write_victim(const std::string& victim) {
@@ -89,119 +60,13 @@ void write_victim(const std::string& victim) {
     write_text(victim + "/sub/deeper.txt", "keep me too");
 }
 
-struct RunOptions {
-    std::vector<std::string> env;     // NAME=VALUE, for this run only
-    bool unprivileged = false;         // as nobody when root (who writes anywhere)
-    double deadline_s = 120;           // then killed
-    std::uint64_t memory_cap = 0;      // RLIMIT_AS, bytes; 0: none
-};
-
-// `npf args...` started in the background, its output into `log` + ".out" / ".err".
-pid_t start_tool(const std::vector<std::string>& args, const std::string& log, const RunOptions& o = {}) {
-    const pid_t pid = ::fork();
-    if (pid != 0) return pid;
-    for (const std::string& e : o.env) ::putenv(const_cast<char*>(e.c_str()));
-    const int out = ::open((log + ".out").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
-    const int err = ::open((log + ".err").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
-    if (out < 0 || err < 0) ::_exit(126);
-    ::dup2(out, 1), ::dup2(err, 2);
-    if (o.unprivileged && ::geteuid() == 0 && (::setgroups(0, nullptr) != 0 || ::setgid(65534) != 0 || ::setuid(65534) != 0))
-        ::_exit(125);
-    if (o.memory_cap > 0) {
-        const struct rlimit cap {rlim_t(o.memory_cap), rlim_t(o.memory_cap)};
-        ::setrlimit(RLIMIT_AS, &cap);
-    }
-    std::vector<std::string> copy = {NPF_TOOL_PATH};
-    copy.insert(copy.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(NPF_TOOL_PATH, argv.data());
-    ::_exit(127);
-}
-
-// Waits for `pid` at most `deadline_s` (then kills it); its wait status, or -1 when it was killed
-// at the deadline.
-int wait_for(pid_t pid, double deadline_s) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(deadline_s);
-    int status = 0;
-    while (::waitpid(pid, &status, WNOHANG) == 0) {
-        if (std::chrono::steady_clock::now() > end) {
-            ::kill(pid, SIGKILL);
-            ::waitpid(pid, &status, 0);
-            return -1;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    return status;
-}
-
-// `npf args...` run to its end (or its deadline).
-ToolRun run(const std::vector<std::string>& args, const RunOptions& o = {}) {
-    static int counter = 0;
-    const std::string log = npf::testing::temporary_folder("batch-hostile-log") + "/run" + std::to_string(++counter);
-    ToolRun r;
-    r.command = "npf";
-    for (const std::string& a : args) r.command += " " + npf::testing::shell_quote(a);
-    const int status = wait_for(start_tool(args, log, o), o.deadline_s);
-    r.status = status >= 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = read_text(log + ".out");
-    r.err = read_text(log + ".err") + (status < 0 ? "\n(killed at the test's deadline)" : "");
-    return r;
-}
-
-// The pid of a live (not zombie) process whose command line holds `part`; 0 when none.
-pid_t process_with(const std::string& part) {
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator("/proc", ec)) {
-        const std::string pid = e.path().filename().string();
-        if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
-        std::string cmdline = read_text(e.path().string() + "/cmdline");
-        for (char& c : cmdline) c = c == '\0' ? ' ' : c;
-        if (!contains(cmdline, part)) continue;
-        const std::string stat = read_text(e.path().string() + "/stat");
-        const std::size_t close = stat.rfind(')');
-        if (close != std::string::npos && close + 2 < stat.size() && stat[close + 2] == 'Z') continue;
-        return pid_t(std::atol(pid.c_str()));
-    }
-    return 0;
-}
-
-// Waits (at most 30 s) for the worker of material `name` of the shard-0-of-1 stage under `out`.
-pid_t wait_for_worker(const std::string& out, const std::string& name) {
-    const std::string part = "--worker " + out + "/.npf-batch/shard-0-of-1/" + name + ".job.yaml";
-    for (int i = 0; i < 6000; ++i) {
-        if (const pid_t pid = process_with(part)) return pid;
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    return 0;
-}
-
-std::map<std::string, std::string> statuses(const std::string& summary) {
-    std::map<std::string, std::string> out;
-    for (const batch::MaterialResult& m : batch::read_summary_json(summary).materials) out[m.name] = batch::status_name(m.status);
-    return out;
-}
-
-std::string reason_of(const std::string& summary, const std::string& name) {
-    for (const batch::MaterialResult& m : batch::read_summary_json(summary).materials)
-        if (m.name == name) return m.reason;
-    return "(not in the summary)";
-}
-
-bool has_temporaries(const std::string& dir) {
-    for (const auto& [rel, kind] : tree_of(dir))
-        if (contains(rel, ".tmp-")) return true;
-    return false;
-}
-
 // ---- 1. The batch's own places never follow links ----------------------------------------------
 
 // The reviewed case: a link at the shard folder made every file and folder in its target go
 // (clear_folder iterated through it) and exit 0. Now it is refused, and nothing outside the
 // output folder changes.
 TEST(BatchHostile, ALinkAtTheShardFolderIsRefusedAndNothingOutsideChanges) {
-    const std::string dir = library("batch-hostile-shard-link", {"glossy"});
+    const std::string dir = material_library("batch-hostile-shard-link", {"glossy"});
     write_victim(dir + "/victim");
     fs::create_directories(dir + "/out/.npf-batch");
     fs::create_directory_symlink("../../victim", dir + "/out/.npf-batch/shard-0-of-1");
@@ -219,7 +84,7 @@ TEST(BatchHostile, ALinkAtTheShardFolderIsRefusedAndNothingOutsideChanges) {
 
 // A link at `.npf-batch` itself: the shard folder in its target was emptied, its lock made there.
 TEST(BatchHostile, ALinkAtTheWorkFolderIsRefused) {
-    const std::string dir = library("batch-hostile-work-link", {"glossy"});
+    const std::string dir = material_library("batch-hostile-work-link", {"glossy"});
     write_victim(dir + "/victim/shard-0-of-1");
     fs::create_directories(dir + "/out");
     fs::create_directory_symlink("../victim", dir + "/out/.npf-batch");
@@ -234,7 +99,7 @@ TEST(BatchHostile, ALinkAtTheWorkFolderIsRefused) {
 
 // A link at the lock file: opened with O_CREAT through it, it made a file wherever it pointed.
 TEST(BatchHostile, ALinkAtTheLockIsRefused) {
-    const std::string dir = library("batch-hostile-lock-link", {"glossy"});
+    const std::string dir = material_library("batch-hostile-lock-link", {"glossy"});
     write_victim(dir + "/victim");
     fs::create_directories(dir + "/out/.npf-batch");
     fs::create_symlink("../../victim/planted.lock", dir + "/out/.npf-batch/shard-0-of-1.lock");
@@ -253,7 +118,7 @@ const char* const kRenderSettings = "  render: {size: 16, spp: 1, threads: 1, en
 
 // A link at `renders/`: the validation renders went into its target.
 TEST(BatchHostile, ALinkAtTheRendersFolderIsRefusedBeforeAnyWork) {
-    const std::string dir = library("batch-hostile-renders-link", {"glossy"});
+    const std::string dir = material_library("batch-hostile-renders-link", {"glossy"});
     write_victim(dir + "/victim");
     fs::create_directories(dir + "/out");
     fs::create_directory_symlink("../victim", dir + "/out/renders");
@@ -270,7 +135,7 @@ TEST(BatchHostile, ALinkAtTheRendersFolderIsRefusedBeforeAnyWork) {
 // A link at a render's name inside `renders/`: publishing followed it and replaced its target.
 // Now that material fails, naming the link; the others are unaffected.
 TEST(BatchHostile, ALinkAtARenderIsRefused) {
-    const std::string dir = library("batch-hostile-render-file-link", {"glossy"});
+    const std::string dir = material_library("batch-hostile-render-file-link", {"glossy"});
     write_victim(dir + "/victim");
     write_text(dir + "/victim/render.exr", "not a render");
     fs::create_directories(dir + "/out/renders");
@@ -290,7 +155,7 @@ TEST(BatchHostile, ALinkAtARenderIsRefused) {
 // The default summary is a name of the batch's own choosing: a link there is refused before any
 // work (it replaced its target after all of it).
 TEST(BatchHostile, ALinkAtTheDefaultSummaryIsRefusedBeforeAnyWork) {
-    const std::string dir = library("batch-hostile-summary-link", {"glossy"});
+    const std::string dir = material_library("batch-hostile-summary-link", {"glossy"});
     write_victim(dir + "/victim");
     fs::create_directories(dir + "/out");
     fs::create_symlink("../victim/precious.txt", dir + "/out/batch-summary.json");
@@ -308,7 +173,7 @@ TEST(BatchHostile, ALinkAtTheDefaultSummaryIsRefusedBeforeAnyWork) {
 // What the user names may be a link and is followed, as -o is: the output folder, and a summary
 // named in the configuration.
 TEST(BatchHostile, TheUsersOwnChoicesMayBeLinks) {
-    const std::string dir = library("batch-hostile-user-links", {"glossy"});
+    const std::string dir = material_library("batch-hostile-user-links", {"glossy"});
     fs::create_directories(dir + "/real");
     fs::create_directory_symlink("real", dir + "/out");
     fs::create_directories(dir + "/sums");
@@ -323,146 +188,6 @@ TEST(BatchHostile, TheUsersOwnChoicesMayBeLinks) {
 }
 
 // ---- 2. Killed, terminated, run twice at once, read-only ----------------------------------------
-
-// Two materials, the second (in name order) slow enough (about a second) to be caught converting.
-std::string slow_library(const std::string& tag, std::string& extra) {
-    const std::string dir = library(tag, {"glossy"});
-    npf::testing::SyntheticRglSpec slow;
-    slow.theta_count = 5, slow.ndf_size = 16, slow.vndf_size = 8, slow.data_size = 8, slow.phi_count = 4, slow.spectral = true;
-    npf::testing::write_synthetic_rgl(slow, dir + "/in/middle.bsdf");
-    extra = "materials:\n  middle: {grid: [24, 32, 24, 32], g_grid: [24, 32], phi_d_samples: 8, iterations: 200, tolerance: 0}\n";
-    return dir;
-}
-
-// kill -9 and SIGTERM of a worker in the middle of its material: that material fails with the
-// signal, nothing of it is published, the stage is emptied, and the next run converts it to the
-// bytes of an uninterrupted batch.
-TEST(BatchHostile, AWorkerKilledOrTerminatedFailsItsMaterialAndTheNextRunResumes) {
-    std::string extra;
-    const std::string dir = slow_library("batch-hostile-worker-kill", extra);
-    const std::string ref = write_batch_config(dir + "/ref.yaml", dir + "/in", dir + "/ref", extra);
-    const std::string cfg = write_batch_config(dir + "/b.yaml", dir + "/in", dir + "/out", extra);
-    ASSERT_EQ(run({"batch", ref, "--quiet"}).status, 0);
-    const std::map<int, std::string> signals = {{SIGKILL, "killed by signal 9 (killed) from outside"},
-                                                {SIGTERM, "killed by signal 15 (terminated)"}};
-    for (const auto& [signal, reason] : signals) {
-        const pid_t batch_pid = start_tool({"batch", cfg}, dir + "/run" + std::to_string(signal));
-        const pid_t worker = wait_for_worker(dir + "/out", "middle");
-        ASSERT_GT(worker, 0) << "the worker of 'middle' was not seen";
-        std::this_thread::sleep_for(std::chrono::milliseconds(300));  // past its start-up, into the fit
-        ::kill(worker, signal);
-        const int status = wait_for(batch_pid, 120);
-        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 4) << read_text(dir + "/run" + std::to_string(signal) + ".err");
-        EXPECT_TRUE(contains(reason_of(dir + "/out/batch-summary.json", "middle"), reason))
-            << reason_of(dir + "/out/batch-summary.json", "middle");
-        EXPECT_FALSE(fs::exists(dir + "/out/middle.exr"));
-        EXPECT_FALSE(has_temporaries(dir + "/out"));
-        EXPECT_TRUE(npf::testing::folder_entries(dir + "/out/.npf-batch/shard-0-of-1").empty());
-    }
-    const ToolRun resumed = run({"batch", cfg});
-    ASSERT_EQ(resumed.status, 0) << describe(resumed);
-    EXPECT_EQ(statuses(dir + "/out/batch-summary.json"),
-              (std::map<std::string, std::string>{{"glossy", "skipped"}, {"middle", "converted"}}));
-    EXPECT_TRUE(npf::testing::exr_outputs_of(dir + "/ref") == npf::testing::exr_outputs_of(dir + "/out"));
-}
-
-// SIGTERM of the batch (Slurm's scancel, a timeout) while a worker converts: the worker is killed,
-// the stage emptied, no summary written, and the batch ends by SIGTERM; it used to die leaving
-// the job file and the worker's log in the stage. The next run resumes to the same bytes.
-TEST(BatchHostile, SigtermOfTheBatchLeavesNothingBehindAndTheNextRunResumes) {
-    const std::string dir = library("batch-hostile-sigterm", {"glossy", "stuck"});
-    const std::string ref = write_batch_config(dir + "/ref.yaml", dir + "/in", dir + "/ref");
-    const std::string cfg = write_batch_config(dir + "/b.yaml", dir + "/in", dir + "/out");
-    ASSERT_EQ(run({"batch", ref, "--quiet"}).status, 0);
-    RunOptions hang;
-    hang.env = {"NPF_TEST_FAULT=hang:stuck"};
-    const pid_t batch_pid = start_tool({"batch", cfg}, dir + "/stopped", hang);
-    const pid_t worker = wait_for_worker(dir + "/out", "stuck");
-    ASSERT_GT(worker, 0) << read_text(dir + "/stopped.err");
-    ::kill(batch_pid, SIGTERM);
-    const int status = wait_for(batch_pid, 60);
-    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << "status " << status << "\n" << read_text(dir + "/stopped.err");
-    EXPECT_TRUE(contains(read_text(dir + "/stopped.err"), "npf batch: stopped by signal 15 after 1 materials"))
-        << read_text(dir + "/stopped.err");
-    EXPECT_EQ(process_with("--worker " + dir + "/out/.npf-batch/shard-0-of-1/stuck.job.yaml"), 0) << "the worker outlived its batch";
-    EXPECT_TRUE(npf::testing::folder_entries(dir + "/out/.npf-batch/shard-0-of-1").empty());
-    EXPECT_EQ(npf::testing::folder_entries(dir + "/out"), (std::vector<std::string>{".npf-batch", "glossy.exr"}));
-
-    const ToolRun resumed = run({"batch", cfg});
-    ASSERT_EQ(resumed.status, 0) << describe(resumed);
-    EXPECT_EQ(statuses(dir + "/out/batch-summary.json"),
-              (std::map<std::string, std::string>{{"glossy", "skipped"}, {"stuck", "converted"}}));
-    EXPECT_TRUE(npf::testing::exr_outputs_of(dir + "/ref") == npf::testing::exr_outputs_of(dir + "/out"));
-}
-
-// Two batches on one output folder at once: the same shard (of the same or of another
-// configuration) is refused by its lock, naming it; other shard counts run side by side, each in
-// its own stage, converting some materials twice into the same bytes.
-TEST(BatchHostile, TwoBatchesOnOneOutputFolder) {
-    const std::string dir = library("batch-hostile-two-batches", {"a", "b"});
-    fs::create_directories(dir + "/hang");
-    write_material(dir + "/hang/stuck.bsdf", 0.45f);
-    const std::string ref = write_batch_config(dir + "/ref.yaml", dir + "/in", dir + "/ref");
-    const std::string cfg = write_batch_config(dir + "/b.yaml", dir + "/in", dir + "/out");
-    const std::string holding = write_batch_config(dir + "/holding.yaml", dir + "/hang", dir + "/out");
-    ASSERT_EQ(run({"batch", ref, "--quiet"}).status, 0);
-
-    RunOptions hang;
-    hang.env = {"NPF_TEST_FAULT=hang:stuck"};
-    const pid_t holder = start_tool({"batch", holding}, dir + "/holder", hang);
-    ASSERT_GT(wait_for_worker(dir + "/out", "stuck"), 0) << read_text(dir + "/holder.err");
-    const std::string held = "npf batch: error: " + dir +
-                             "/out/.npf-batch/shard-0-of-1.lock: another npf batch is running this shard in this output folder "
-                             "(the lock is held)";
-    for (const std::string& config : {holding, cfg}) {
-        const ToolRun second = run({"batch", config});
-        EXPECT_EQ(second.status, 1) << describe(second);
-        EXPECT_TRUE(contains(second.err, held)) << describe(second);
-    }
-    ::kill(holder, SIGTERM);
-    wait_for(holder, 60);
-
-    // Shards 0/1, 0/2 and 1/2 at once.
-    std::vector<pid_t> runs;
-    for (const char* shard : {"0/1", "0/2", "1/2"})
-        runs.push_back(start_tool({"batch", cfg, "--shard", shard}, dir + "/shard" + std::to_string(runs.size())));
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-        const int status = wait_for(runs[i], 120);
-        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_text(dir + "/shard" + std::to_string(i) + ".err");
-    }
-    EXPECT_TRUE(npf::testing::exr_outputs_of(dir + "/ref") == npf::testing::exr_outputs_of(dir + "/out"));
-    for (const char* stage : {"shard-0-of-1", "shard-0-of-2", "shard-1-of-2"})
-        EXPECT_TRUE(npf::testing::folder_entries(dir + "/out/.npf-batch/" + stage).empty()) << stage;
-    EXPECT_FALSE(has_temporaries(dir + "/out"));
-}
-
-// A worker uses only the stage folder its batch made (its device and inode are in the job) and a
-// job file in it: a folder put in its place, or a job from elsewhere, is refused.
-TEST(BatchHostile, AWorkerUsesOnlyTheStageItsBatchMade) {
-    const std::string dir = npf::testing::temporary_folder("batch-hostile-worker-stage");
-    fs::create_directories(dir + "/stage");
-    fs::create_directories(dir + "/elsewhere");
-    struct stat stage {}, other {};
-    ASSERT_EQ(::stat((dir + "/stage").c_str(), &stage), 0);
-    ASSERT_EQ(::stat((dir + "/elsewhere").c_str(), &other), 0);
-    const auto job = [&](const struct stat& id) {
-        return "npf_batch_worker_job: 2\nparent: " + std::to_string(::getpid()) + "\nname: \"m\"\ninput: \"" + dir +
-               "/m.bsdf\"\noutput: \"" + dir + "/m.exr\"\norigin: \"x\"\nstage: \"" + dir + "/stage\"\nstage_device: \"" +
-               std::to_string(id.st_dev) + "\"\nstage_inode: \"" + std::to_string(id.st_ino) +
-               "\"\nforce: false\nshard: 0\nmemory_limit: \"0\"\nresult: \"m.result.json\"\nmoves: \"m.moves.yaml\"\nsettings: {}\n";
-    };
-    write_text(dir + "/stage/m.job.yaml", job(other));
-    const ToolRun swapped = run({"batch", "--worker", dir + "/stage/m.job.yaml"});
-    EXPECT_EQ(swapped.status, 3) << describe(swapped);
-    EXPECT_TRUE(contains(swapped.err, "npf batch --worker: " + dir + "/stage: is not the folder npf batch made (another was put in its place): not used"))
-        << describe(swapped);
-    write_text(dir + "/elsewhere/m.job.yaml", job(stage));
-    const ToolRun foreign = run({"batch", "--worker", dir + "/elsewhere/m.job.yaml"});
-    EXPECT_EQ(foreign.status, 3) << describe(foreign);
-    EXPECT_TRUE(contains(foreign.err, dir + "/elsewhere/m.job.yaml: is not a job in the work folder the batch made: not used"))
-        << describe(foreign);
-    EXPECT_TRUE(npf::testing::folder_entries(dir + "/stage") == std::vector<std::string>{"m.job.yaml"});
-}
 
 // Runs as nobody when the tests run as root: root writes into read-only folders.
 RunOptions unprivileged() {
@@ -491,7 +216,7 @@ void make_reachable(const std::string& dir) {
 // material then failed on its job file).
 TEST(BatchHostile, ReadOnlyFoldersFailBeforeAnyWork) {
     if (!can_drop_privileges()) GTEST_SKIP() << "running as root, and cannot run the tool as nobody: root writes anywhere";
-    const std::string dir = library("batch-hostile-read-only", {"glossy"});
+    const std::string dir = material_library("batch-hostile-read-only", {"glossy"});
     make_reachable(dir);
     const std::string cfg = write_batch_config(dir + "/b.yaml", dir + "/in", dir + "/out");
     fs::create_directories(dir + "/out");
@@ -529,7 +254,7 @@ TEST(BatchHostile, ReadOnlyFoldersFailBeforeAnyWork) {
 // longer dropped silently; a FIFO named like a summary no longer hangs the batch (its first bytes
 // were read to tell whether it is one: a literal input `in/stream.json` waited for a writer).
 TEST(BatchHostile, AGlobNamesWhatItLeavesOut) {
-    const std::string dir = library("batch-hostile-glob", {"glossy"});
+    const std::string dir = material_library("batch-hostile-glob", {"glossy"});
     const std::string in = dir + "/in";
     ASSERT_EQ(::mkfifo((in + "/pipe.bsdf").c_str(), 0644), 0);
     ASSERT_EQ(::mkfifo((in + "/stream.json").c_str(), 0644), 0);
@@ -576,9 +301,9 @@ TEST(BatchHostile, AGlobNamesWhatItLeavesOut) {
 // the progress line, the error lines or the Markdown summary; the JSON summary keeps the names
 // exactly (valid JSON, escaped).
 TEST(BatchHostile, ControlCharactersInNamesStayOnOneLine) {
-    const std::string dir = library("batch-hostile-control", {});
-    write_material(dir + "/in/new\nline.bsdf", 0.3f);
-    write_material(dir + "/in/esc\x1b[31mred.bsdf", 0.4f);
+    const std::string dir = material_library("batch-hostile-control", {});
+    write_test_material(dir + "/in/new\nline.bsdf", 0.3f);
+    write_test_material(dir + "/in/esc\x1b[31mred.bsdf", 0.4f);
     write_text(dir + "/in/bad\rname.bsdf", "not a material");
     const std::string cfg = write_batch_config(dir + "/b.yaml", dir + "/in", dir + "/out");
     const ToolRun r = run({"batch", cfg});
@@ -604,7 +329,7 @@ TEST(BatchHostile, ControlCharactersInNamesStayOnOneLine) {
 // for a writer, holding a worker until its time_limit (6 h by default) and an --in-process batch
 // for ever.
 TEST(BatchHostile, AnEditRecipeThatIsAFifoFailsAtOnce) {
-    const std::string dir = library("batch-hostile-edit-fifo", {"glossy"});
+    const std::string dir = material_library("batch-hostile-edit-fifo", {"glossy"});
     ASSERT_EQ(::mkfifo((dir + "/pipe.yaml").c_str(), 0644), 0);
     const std::string cfg = write_batch_config(dir + "/b.yaml", dir + "/in", dir + "/out", "  edit: pipe.yaml\n  time_limit: 60\n");
     RunOptions o;
@@ -655,7 +380,7 @@ void expect_refused(const std::string& dir, const std::string& extra, std::strin
 }
 
 TEST(BatchHostile, AnOutputThatIsAHardLinkToItsInputIsRefused) {
-    const std::string dir = library("batch-hostile-hard-output", {"glossy"});
+    const std::string dir = material_library("batch-hostile-hard-output", {"glossy"});
     fs::create_directories(dir + "/out");
     fs::create_hard_link(dir + "/in/glossy.bsdf", dir + "/out/glossy.exr");
     expect_refused(dir, "", "DIR/out/glossy.exr: is the same file as DIR/in/glossy.bsdf (the input of 'glossy' and the output of "
@@ -663,7 +388,7 @@ TEST(BatchHostile, AnOutputThatIsAHardLinkToItsInputIsRefused) {
 }
 
 TEST(BatchHostile, AnOutputThatIsALinkToAnInputIsRefused) {
-    const std::string dir = library("batch-hostile-link-output", {"glossy", "rough"});
+    const std::string dir = material_library("batch-hostile-link-output", {"glossy", "rough"});
     fs::create_directories(dir + "/out");
     fs::create_symlink("../in/rough.bsdf", dir + "/out/glossy.exr");  // publishing follows it: rough.bsdf replaced
     expect_refused(dir, "", "DIR/out/glossy.exr: is the same file as DIR/in/rough.bsdf (the input of 'rough' and the output of "
@@ -671,7 +396,7 @@ TEST(BatchHostile, AnOutputThatIsALinkToAnInputIsRefused) {
 }
 
 TEST(BatchHostile, AnInputThatIsAHardLinkToTheSummaryIsRefused) {
-    const std::string dir = library("batch-hostile-hard-summary", {"glossy"});
+    const std::string dir = material_library("batch-hostile-hard-summary", {"glossy"});
     fs::create_directories(dir + "/out");
     write_text(dir + "/out/batch-summary.json", "an earlier summary");
     fs::create_hard_link(dir + "/out/batch-summary.json", dir + "/in/report.bsdf");
@@ -680,7 +405,7 @@ TEST(BatchHostile, AnInputThatIsAHardLinkToTheSummaryIsRefused) {
 }
 
 TEST(BatchHostile, AnInputThatIsAHardLinkToARenderIsRefused) {
-    const std::string dir = library("batch-hostile-hard-render", {"glossy"});
+    const std::string dir = material_library("batch-hostile-hard-render", {"glossy"});
     fs::create_directories(dir + "/out/renders");
     write_text(dir + "/out/renders/glossy.studio.npf.exr", "an earlier render");
     fs::create_hard_link(dir + "/out/renders/glossy.studio.npf.exr", dir + "/in/r.bsdf");
@@ -689,7 +414,7 @@ TEST(BatchHostile, AnInputThatIsAHardLinkToARenderIsRefused) {
 }
 
 TEST(BatchHostile, TwoMaterialsWithOneOutputFileAreRefused) {
-    const std::string dir = library("batch-hostile-same-output", {"a", "b"});
+    const std::string dir = material_library("batch-hostile-same-output", {"a", "b"});
     fs::create_directories(dir + "/out");
     write_text(dir + "/out/b.exr", "an earlier output of b");
     fs::create_symlink("b.exr", dir + "/out/a.exr");  // a's texture went into b.exr, then b's replaced it

@@ -1,9 +1,12 @@
 // A batch survives its materials: each one is converted in a worker process of its own
 // (`npf batch --worker`), so a reader that crashes, aborts, runs out of memory, hangs or is
 // killed fails only its material, which is reported by name and reason while the others convert
-// (exit status 4). The crashes are injected with the test-only NPF_TEST_FAULT variable
-// (docs/batch.md "Failure isolation").
+// (exit status 4). The crashes are injected with the test-only NPF_TEST_FAULT variable, read
+// by the test-only worker executable (NPF_FAULT_WORKER_PATH, tests/fault_worker.cpp) and the
+// in-process hook (injected_faults.h), never by npf (docs/batch.md "Failure isolation").
+#include "batch_processes.h"
 #include "batch_runs.h"
+#include "injected_faults.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -37,6 +40,7 @@ using npf::testing::ToolRun;
 using npf::testing::batch_run;
 using npf::testing::exr_outputs_of;
 using npf::testing::write_batch_config;
+using npf::testing::write_test_material;
 
 
 // The test-only fault variable, set for the tool runs of one test.
@@ -48,15 +52,6 @@ public:
     ScopedFault& operator=(const ScopedFault&) = delete;
 };
 
-void write_material(const std::string& path, float alpha) {
-    npf::testing::SyntheticRglSpec s;
-    s.theta_count = 5;
-    s.ndf_size = 16;
-    s.vndf_size = 8;
-    s.data_size = 8;
-    s.alpha_x = s.alpha_y = alpha;
-    npf::testing::write_synthetic_rgl(s, path);
-}
 
 
 
@@ -72,13 +67,13 @@ TEST(BatchIsolation, CrashesAbortsMemoryAndHangsFailOnlyTheirMaterial) {
     // Every material is a good file: the faults are injected into their workers.
     const std::vector<std::string> names = {"aborts", "crashes", "glossy", "hog", "killed", "quits", "rough", "stuck"};
     fs::create_directories(dir + "/in");
-    for (std::size_t i = 0; i < names.size(); ++i) write_material(dir + "/in/" + names[i] + ".bsdf", 0.2f + 0.05f * float(i));
+    for (std::size_t i = 0; i < names.size(); ++i) write_test_material(dir + "/in/" + names[i] + ".bsdf", 0.2f + 0.05f * float(i));
     const std::string limits = "  time_limit: 120\nmaterials:\n  hog: {memory_limit: 1 GiB}\n  stuck: {time_limit: 1.5}\n";
     const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out", limits);
     ToolRun r;
     {
         const ScopedFault fault("abort:aborts,segv:crashes,oom:hog,kill:killed,exit:quits,hang:stuck");
-        r = batch_run({cfg});
+        r = batch_run({cfg, "--worker-executable", NPF_FAULT_WORKER_PATH});
     }
     EXPECT_EQ(r.status, 4) << describe(r);
     const batch::BatchSummary s = batch::read_summary_json(dir + "/out/batch-summary.json");
@@ -131,10 +126,11 @@ TEST(BatchIsolation, CrashesAbortsMemoryAndHangsFailOnlyTheirMaterial) {
 TEST(BatchIsolation, RunningOutOfMemoryInProcessNamesTheFile) {
     const std::string dir = npf::testing::temporary_folder("batch-oom-in-process");
     fs::create_directories(dir + "/in");
-    write_material(dir + "/in/glossy.bsdf", 0.2f);
-    write_material(dir + "/in/hog.bsdf", 0.4f);
+    write_test_material(dir + "/in/glossy.bsdf", 0.2f);
+    write_test_material(dir + "/in/hog.bsdf", 0.4f);
     const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
     batch::BatchOptions options;  // no worker_executable: in this process
+    options.before_material = npf::testing::injected_faults(false);
     batch::BatchSummary s;
     {
         const ScopedFault fault("oom:hog");
@@ -147,15 +143,15 @@ TEST(BatchIsolation, RunningOutOfMemoryInProcessNamesTheFile) {
     EXPECT_EQ(m.at("hog")->reason, dir + "/in/hog.bsdf: ran out of memory (no memory limit)");
 }
 
-// A library caller that names the npf executable gets the same isolation as `npf batch`.
+// A library caller that names a worker executable gets the same isolation as `npf batch`.
 TEST(BatchIsolation, LibraryCallersCanUseWorkerProcesses) {
     const std::string dir = npf::testing::temporary_folder("batch-library-workers");
     fs::create_directories(dir + "/in");
-    write_material(dir + "/in/glossy.bsdf", 0.2f);
-    write_material(dir + "/in/crashes.bsdf", 0.4f);
+    write_test_material(dir + "/in/glossy.bsdf", 0.2f);
+    write_test_material(dir + "/in/crashes.bsdf", 0.4f);
     const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
     batch::BatchOptions options;
-    options.worker_executable = NPF_TOOL_PATH;
+    options.worker_executable = NPF_FAULT_WORKER_PATH;
     options.time_limit = "60";
     std::vector<std::string> lines;
     options.log = [&](const std::string& line) { lines.push_back(line); };
@@ -174,27 +170,13 @@ TEST(BatchIsolation, LibraryCallersCanUseWorkerProcesses) {
 }
 
 // Whether a process whose command line holds `part` is alive (a zombie counts as gone).
-bool process_running(const std::string& part) {
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator("/proc", ec)) {
-        const std::string pid = e.path().filename().string();
-        if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
-        std::string cmdline = npf::testing::read_text(e.path().string() + "/cmdline");
-        for (char& c : cmdline) c = c == '\0' ? ' ' : c;
-        if (!contains(cmdline, part)) continue;
-        const std::string stat = npf::testing::read_text(e.path().string() + "/stat");
-        const std::size_t close = stat.rfind(')');
-        if (close != std::string::npos && close + 2 < stat.size() && stat[close + 2] == 'Z') continue;
-        return true;
-    }
-    return false;
-}
+bool process_running(const std::string& part) { return npf::testing::process_with(part) != 0; }
 
 // kill -9 of the batch takes its worker with it: nothing converts on behind the next run's back.
 TEST(BatchIsolation, AWorkerDiesWithItsBatch) {
     const std::string dir = npf::testing::temporary_folder("batch-worker-orphan");
     fs::create_directories(dir + "/in");
-    write_material(dir + "/in/stuck.bsdf", 0.3f);
+    write_test_material(dir + "/in/stuck.bsdf", 0.3f);
     const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
     const std::string job = dir + "/out/.npf-batch/shard-0-of-1/stuck.job.yaml";
     pid_t pid = -1;
@@ -204,7 +186,8 @@ TEST(BatchIsolation, AWorkerDiesWithItsBatch) {
         if (pid == 0) {
             const int fd = ::open((dir + "/batch.log").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
             if (fd >= 0) ::dup2(fd, 1), ::dup2(fd, 2);
-            ::execl(NPF_TOOL_PATH, NPF_TOOL_PATH, "batch", cfg.c_str(), static_cast<char*>(nullptr));
+            ::execl(NPF_TOOL_PATH, NPF_TOOL_PATH, "batch", cfg.c_str(), "--worker-executable", NPF_FAULT_WORKER_PATH,
+                    static_cast<char*>(nullptr));
             ::_exit(127);
         }
     }

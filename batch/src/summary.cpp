@@ -1,5 +1,7 @@
 #include <npf/batch/summary.h>
 
+#include "figure_text.h"
+
 #include <npf/converter/convert.h>
 #include <npf/core/atomic_file.h>
 #include <npf/core/error.h>
@@ -21,15 +23,9 @@ namespace {
 
 std::string opt(const std::optional<double>& v) { return v ? json_number(*v) : "null"; }
 
-std::string fixed(double v, int digits) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.*f", digits, v);
-    return b;
-}
-
-std::string decibels(double v) { return std::isfinite(v) ? fixed(v, 2) : "inf"; }
-
-std::string megabytes(std::uint64_t bytes) { return fixed(double(bytes) / 1e6, 3); }
+using detail::decibels;
+using detail::fixed;
+using detail::megabytes;
 
 // Markdown text on one line: control characters escaped (a newline in a file name would end
 // a table row), and no pipes (they would end a cell).

@@ -67,13 +67,7 @@ EditRecipe parse_edit_recipe(const std::string& yaml, const std::string& source,
     Context cx;
     cx.source = source;
     cx.base_dir = base_dir;
-    YAML::Node root;
-    try {
-        root = YAML::Load(yaml);
-    } catch (const YAML::ParserException& e) {
-        throw Error(source + ":" + std::to_string(e.mark.line + 1), "not valid YAML: " + e.msg);
-    }
-    if (!root.IsMap()) throw Error(source, "an edit recipe is a YAML mapping with a list of steps (see configs/edits/)");
+    const YAML::Node root = cx.load_mapping(yaml, "an edit recipe is a YAML mapping with a list of steps (see configs/edits/)");
     cx.only(root, "", {"description", "steps", "options"});
     EditRecipe r;
     if (root["description"]) {

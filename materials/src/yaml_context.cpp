@@ -14,12 +14,15 @@
 
 namespace npf {
 
-YAML::Node YamlContext::load(const std::string& yaml) const {
+YAML::Node YamlContext::load_mapping(const std::string& yaml, const std::string& not_a_mapping) const {
+    YAML::Node root;
     try {
-        return YAML::Load(yaml);
-    } catch (const YAML::ParserException& e) {
-        throw Error(source + ":" + std::to_string(e.mark.line + 1), "not valid YAML: " + e.msg);
+        root = YAML::Load(yaml);
+    } catch (const YAML::Exception& e) {
+        throw Error(e.mark.line >= 0 ? source + ":" + std::to_string(e.mark.line + 1) : source, "not valid YAML: " + e.msg);
     }
+    if (!root.IsMap()) throw Error(source, not_a_mapping);
+    return root;
 }
 
 std::string YamlContext::where(const YAML::Node& node) const {

@@ -32,6 +32,8 @@ const std::vector<FlagSpec> kFlags = {
     {"--memory-limit", true, "SIZE: memory limit of each material's worker process, overriding the configuration (8 GiB, none)"},
     {"--time-limit", true, "SECONDS: wall time limit of each material's worker process, overriding the configuration (3600, 2 h, none)"},
     {"--in-process", false, "convert in this process: no worker processes, no limits (a crash ends the batch; for debuggers)"},
+    {"--worker-executable", true, "PROGRAM: each material's worker process runs PROGRAM batch --worker JOB instead of this npf "
+                                  "(a wrapper, or the tests' fault-injecting worker)"},
     {"--check", false, "only read and check the configuration; list the materials of the shard"},
     {"--merge", false, "merge shard summaries: npf batch --merge S1.json S2.json ... [-o MERGED]"},
     {"-o", true, "with --merge: base name of the merged summary (default: batch-summary beside the first)"},
@@ -189,6 +191,10 @@ int run_batch(const std::vector<std::string>& args) {
     }
     // This very executable (its inode, even if the file is replaced while the batch runs).
     if (!cl.has("--in-process") && ::access("/proc/self/exe", X_OK) == 0) options.worker_executable = "/proc/self/exe";
+    if (cl.has("--worker-executable")) {
+        if (cl.has("--in-process")) throw Error("--worker-executable", "give --worker-executable or --in-process, not both");
+        options.worker_executable = cl.value("--worker-executable");
+    }
     const std::string base = cl.has("--summary") ? cl.value("--summary") : batch::summary_base(config, options.shard);
     const std::string summary_folder = std::filesystem::path(base).parent_path().string();
     // Checked (--check) or created before anything is converted: a summary that cannot be

@@ -18,6 +18,7 @@
 #include <npf/render/lighting.h>
 #include <npf/render/path_tracer.h>
 #include <npf/render/render_output.h>
+#include <npf/render/render_settings.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +27,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <tuple>
 
 namespace npf::cli {
 
@@ -50,16 +52,6 @@ const std::vector<FlagSpec> kFlags = {
     {"--quiet", false, "no progress bar"},
     {"--help", false, "show this help"},
 };
-
-void parse_size(const std::string& v, std::size_t& width, std::size_t& height) {
-    const std::size_t x = v.find('x');
-    if (x == std::string::npos) {
-        width = height = std::size_t(parse_whole_number(v, 1, render::RenderOptions::kMaxSide, "--size"));
-    } else {
-        width = std::size_t(parse_whole_number(v.substr(0, x), 1, render::RenderOptions::kMaxSide, "--size"));
-        height = std::size_t(parse_whole_number(v.substr(x + 1), 1, render::RenderOptions::kMaxSide, "--size"));
-    }
-}
 
 std::string describe_channels(const Channels& c) {
     if (c.is_rgb()) return "RGB";
@@ -98,10 +90,11 @@ int run_render(const std::vector<std::string>& args) {
 
     // Every flag first, so that a typo fails before any work.
     render::RenderOptions options;
-    if (cl.has("--size")) parse_size(cl.value("--size"), options.width, options.height);
-    options.spp = std::uint32_t(cl.whole("--spp", 1, render::RenderOptions::kMaxSpp, options.spp));
-    options.seed = cl.whole("--seed", 0, ~std::uint64_t(0), options.seed);
-    options.threads = unsigned(cl.whole("--threads", 1, 1024, options.threads));
+    // Each through its one declaration (render_settings.h), as a batch's render.* keys are.
+    if (cl.has("--size")) std::tie(options.width, options.height) = render::parse_image_size(cl.value("--size"), "--size");
+    options.spp = std::uint32_t(cl.whole("--spp", render::kSppSetting.min, render::kSppSetting.max, options.spp));
+    options.seed = cl.whole("--seed", render::kSeedSetting.min, render::kSeedSetting.max, options.seed);
+    options.threads = unsigned(cl.whole("--threads", render::kThreadsSetting.min, render::kThreadsSetting.max, options.threads));
     if (cl.has("--scene") && cl.value("--scene") != "sphere")
         throw Error("--scene", "'" + cl.value("--scene") + "' is not a known scene (sphere)");
     if (cl.has("--wavelengths")) options.channels = parse_channel_list(cl.value("--wavelengths"), "--wavelengths");

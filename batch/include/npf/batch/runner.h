@@ -8,6 +8,7 @@
 #include <npf/batch/summary.h>
 
 #include <csignal>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -26,6 +27,11 @@ Shard parse_shard(const std::string& text, const std::string& what = "--shard");
 // The materials (indices into a name-sorted list of `count`) of shard K of N: the indices i with
 // i mod N == K. Deterministic, disjoint, and together all of them.
 std::vector<std::size_t> shard_members(std::size_t count, const Shard& shard);
+
+// Called before a material is read, with its name and the memory limit of the process it is
+// processed in (0: none): the seam through which tests make a material fail the way a broken
+// reader can (tests/fault_worker.cpp, docs/batch.md "Failure isolation"). `npf batch` sets none.
+using MaterialHook = std::function<void(const std::string& name, std::uint64_t memory_limit)>;
 
 struct BatchOptions {
     Shard shard;
@@ -48,6 +54,9 @@ struct BatchOptions {
     // emptied, and run_batch returns with BatchSummary::stopped_by set and the materials done so
     // far (not the one cut short). A material converting in this process is finished first.
     const volatile std::sig_atomic_t* stop = nullptr;
+    // Materials processed in this process only (no worker_executable); a worker's is its own
+    // (run_batch_worker).
+    MaterialHook before_material;
 };
 
 // The hash a material's output carries (metadata `batch_hash`): SHA-256 of the hash version,
@@ -77,7 +86,8 @@ void check_batch_files(const BatchConfig& config, const std::string& summary_bas
 // into the stage folder, and writes its result and the list of finished files for the parent to
 // move into place. Returns the exit status (0 when it answered; the material's own failure is in
 // the answer). Not for people: the job file's format is private to this version.
-int run_batch_worker(const std::string& job_path);
+// `before_material` (tests) runs before the material is read.
+int run_batch_worker(const std::string& job_path, const MaterialHook& before_material = {});
 
 // Checks that `dir` is a writable folder, or can be created (the nearest existing folder above
 // it is writable); creates it when `create`. Throws npf::Error naming `what` ("summary folder")

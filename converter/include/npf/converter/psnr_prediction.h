@@ -16,6 +16,7 @@
 #include <npf/core/brdf.h>
 #include <npf/render/environment_map.h>
 #include <npf/render/lighting.h>
+#include <npf/render/paired_render.h>
 #include <npf/shading/npf_model.h>
 
 #include <cstdint>
@@ -80,14 +81,8 @@ public:
     std::string settings_text() const;
 
 private:
-    struct Judged {
-        render::Lighting lighting;
-        color::FloatImage source, source_floor;
-    };
-    color::FloatImage render_at(const Brdf& material, const render::Lighting& lighting, std::uint64_t seed) const;
-
     PsnrPredictionOptions m_options;
-    std::vector<Judged> m_judged;
+    std::vector<render::PairedReference> m_judged;  // one per lighting, the source rendered
 };
 
 }  // namespace npf

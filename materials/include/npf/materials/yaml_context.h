@@ -21,9 +21,9 @@ struct YamlContext {
     // Unknown keys are reported as 'parent.key' rather than 'key' (batch files nest settings).
     bool qualify_unknown_keys = false;
 
-    // The document `yaml` holds; a syntax error is an npf::Error at "source:LINE" ("not valid
-    // YAML: ..."). For every recipe and configuration parser, so that all name it alike.
-    YAML::Node load(const std::string& yaml) const;
+    // The document `yaml`, which must be a mapping: a syntax error throws npf::Error
+    // ("source:LINE", "not valid YAML: ..."), another document Error(source, not_a_mapping).
+    YAML::Node load_mapping(const std::string& yaml, const std::string& not_a_mapping) const;
 
     // "source:LINE" where the node has a position, else "source".
     std::string where(const YAML::Node& node) const;
