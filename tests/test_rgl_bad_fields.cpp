@@ -29,15 +29,8 @@
 namespace {
 
 using namespace npf::testing::rgl_bad_input;
-using npf::DType;
-using npf::RglBrdf;
-using npf::testing::contains;
-using npf::testing::find_field;
-using npf::testing::remove_field;
-using npf::testing::synthetic_rgl_fields;
-using npf::testing::SyntheticField;
-using npf::testing::SyntheticRglSpec;
-using npf::testing::to_writer;
+using npf::DType, npf::testing::find_field, npf::testing::remove_field, npf::testing::synthetic_rgl_fields,
+      npf::testing::SyntheticField, npf::testing::SyntheticRglSpec;
 
 // ---- Required fields, dtypes and shapes ---------------------------------------------------
 

@@ -19,21 +19,10 @@
 
 namespace npf::testing::analytic {
 
-
-using npf::AnalyticBrdf;
-using npf::AnalyticMaterial;
-using npf::ChannelQuery;
-using npf::Channels;
-using npf::Fresnel;
-using npf::MicrofacetDistribution;
-using npf::MicrofacetNdf;
-using npf::SpecularLobe;
-using npf::Vec2;
-using npf::Vec3;
-using npf::color::SampledSpectrum;
-using npf::testing::Chi2Options;
-using npf::testing::Chi2Result;
-using npf::testing::Pcg32;
+using npf::AnalyticBrdf, npf::AnalyticMaterial, npf::ChannelQuery, npf::Channels, npf::Fresnel,
+      npf::MicrofacetDistribution, npf::MicrofacetNdf, npf::SpecularLobe, npf::Vec2, npf::Vec3,
+      npf::color::SampledSpectrum, npf::testing::Chi2Options, npf::testing::Chi2Result,
+      npf::testing::Pcg32;
 
 constexpr double kPi = npf::kPiD;
 
