@@ -16,11 +16,8 @@
 
 namespace {
 
-using npf::NpfModel;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::folder_entries;
-using npf::testing::ToolRun;
+using npf::NpfModel, npf::testing::contains, npf::testing::describe, npf::testing::folder_entries,
+      npf::testing::ToolRun;
 
 const std::string kEdits = std::string(NPF_SOURCE_DIR) + "/configs/edits";
 

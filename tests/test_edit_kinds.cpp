@@ -21,10 +21,7 @@
 
 namespace {
 
-using npf::edit::EditKind;
-using npf::edit::EditKinds;
-using npf::edit::EditStep;
-using npf::edit::GivenFlags;
+using npf::edit::EditKind, npf::edit::EditKinds, npf::edit::EditStep, npf::edit::GivenFlags;
 
 std::string exact(double v) {
     char b[40];

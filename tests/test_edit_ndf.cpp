@@ -19,9 +19,7 @@
 
 namespace {
 
-using npf::NpfModel;
-using npf::edit::Mat3;
-using npf::testing::MicrofacetSpec;
+using npf::NpfModel, npf::edit::Mat3, npf::testing::MicrofacetSpec;
 constexpr double kPi = npf::kPiD;
 
 NpfModel microfacet(double ax, double ay, bool anisotropic, bool spectral = false, int d_theta = 32) {

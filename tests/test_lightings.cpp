@@ -26,12 +26,8 @@
 
 namespace {
 
-using npf::Vec3;
-using npf::render::DirectionalLight;
-using npf::render::Lighting;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::ToolRun;
+using npf::Vec3, npf::render::DirectionalLight, npf::render::Lighting, npf::testing::contains,
+      npf::testing::describe, npf::testing::ToolRun;
 namespace key_rim = npf::render::key_rim;
 
 constexpr double kPi = 3.14159265358979323846;

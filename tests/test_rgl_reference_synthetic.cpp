@@ -13,7 +13,6 @@
 namespace {
 
 using namespace npf::testing::rgl_reference;
-using npf::Vec3;
 
 // ---- (c) Synthetic kinds versus NaiveRgl ----------------------------------------------------
 

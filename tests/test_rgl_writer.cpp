@@ -22,13 +22,8 @@
 
 namespace {
 
-using npf::AnalyticBrdf;
-using npf::AnalyticMaterial;
-using npf::Channels;
-using npf::RglBrdf;
-using npf::RglWriterOptions;
-using npf::Vec3;
-using npf::color::SampledSpectrum;
+using npf::AnalyticBrdf, npf::AnalyticMaterial, npf::Channels, npf::RglBrdf, npf::RglWriterOptions,
+      npf::Vec3, npf::color::SampledSpectrum;
 
 const std::string& folder() {
     static const std::string dir = npf::testing::temporary_folder("rgl-writer");

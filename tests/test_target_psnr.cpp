@@ -26,12 +26,8 @@
 
 namespace {
 
-using npf::ConvertReport;
-using npf::ConvertSettings;
-using npf::DetailGrid;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::ToolRun;
+using npf::ConvertReport, npf::ConvertSettings, npf::DetailGrid, npf::testing::contains,
+      npf::testing::describe, npf::testing::ToolRun;
 
 // An RGB source (a spectral one renders at its wavelengths, many times slower): a small
 // synthetic RGL file, a peaked lobe over a diffuse floor.
