@@ -3,6 +3,7 @@
 // worst, --light on the command line, and a target that a key light makes harder to meet.
 #include "run_tool.h"
 #include "synthetic_rgl.h"
+#include "target_ladder.h"
 
 #include <npf/converter/convert.h>
 #include <npf/converter/psnr_prediction.h>
@@ -26,6 +27,7 @@
 
 namespace {
 
+using npf::testing::metadata_value;
 using npf::Vec3, npf::render::DirectionalLight, npf::render::Lighting, npf::testing::contains,
       npf::testing::describe, npf::testing::ToolRun;
 namespace key_rim = npf::render::key_rim;
@@ -299,24 +301,10 @@ TEST(LightingsCli, BatchTakesLightingNames) {
 // ---- --light decides what a target picks ---------------------------------------------------------
 
 npf::ConvertSettings small_settings() {
-    npf::ConvertSettings s = npf::preset_settings(npf::ConvertPreset::Production, true);
-    s.fit.grid = {16, 1, 12, 24};
-    s.fit.g_theta = 12;
-    s.fit.max_iterations = 30;
-    s.fit.threads = 2;
+    npf::ConvertSettings s = npf::testing::small_ladder_settings();
     s.error_pairs = 0;
     s.detail.grid = npf::DetailGrid{};
-    s.target_ladder = {npf::DetailGrid{8, 4, 8}, npf::DetailGrid{16, 8, 16}};
-    s.prediction.threads = 2;
-    s.prediction.size = 64;
-    s.prediction.spp = 16;
     return s;
-}
-
-std::string meta(const npf::NpfModel& m, const std::string& key) {
-    for (const auto& [k, v] : m.metadata)
-        if (k == key) return v;
-    return "(absent)";
 }
 
 // "Model only what the scene requires": the two lightings judge the coarse base differently (on
@@ -333,11 +321,11 @@ TEST(Lightings, LightChangesWhatTheTargetPicks) {
     const double studio = base.prediction.lightings[0].psnr, key_rim_psnr = base.prediction.lightings[1].psnr;
     ASSERT_GT(std::fabs(studio - key_rim_psnr), 2.0) << "studio " << studio << " dB, key-rim " << key_rim_psnr << " dB";
     const npf::NpfModel base_file = npf::read_npf_texture(dir + "/base.exr");
-    EXPECT_NEAR(std::stod(meta(base_file, "predicted_psnr_studio")), studio, 1e-4 * studio);
-    EXPECT_NEAR(std::stod(meta(base_file, "predicted_psnr_key-rim")), key_rim_psnr, 1e-4 * key_rim_psnr);
-    EXPECT_NE(meta(base_file, "predicted_psnr_key-rim_floor"), "(absent)");
-    EXPECT_NEAR(std::stod(meta(base_file, "predicted_psnr")), std::min(studio, key_rim_psnr), 1e-4 * std::min(studio, key_rim_psnr));
-    EXPECT_TRUE(contains(meta(base_file, "predicted_psnr_render"), "worst of studio")) << meta(base_file, "predicted_psnr_render");
+    EXPECT_NEAR(std::stod(metadata_value(base_file, "predicted_psnr_studio")), studio, 1e-4 * studio);
+    EXPECT_NEAR(std::stod(metadata_value(base_file, "predicted_psnr_key-rim")), key_rim_psnr, 1e-4 * key_rim_psnr);
+    EXPECT_NE(metadata_value(base_file, "predicted_psnr_key-rim_floor"), "(absent)");
+    EXPECT_NEAR(std::stod(metadata_value(base_file, "predicted_psnr")), std::min(studio, key_rim_psnr), 1e-4 * std::min(studio, key_rim_psnr));
+    EXPECT_TRUE(contains(metadata_value(base_file, "predicted_psnr_render"), "worst of studio")) << metadata_value(base_file, "predicted_psnr_render");
 
     const bool studio_easier = studio > key_rim_psnr;
     s.target_psnr = std::max(studio, key_rim_psnr) - 1.0;

@@ -5,6 +5,7 @@
 // each conversion to a second or two.
 #include "run_tool.h"
 #include "synthetic_rgl.h"
+#include "target_ladder.h"
 
 #include <npf/batch/config.h>
 #include <npf/converter/convert.h>
@@ -26,6 +27,7 @@
 
 namespace {
 
+using npf::testing::metadata_value;
 using npf::ConvertReport, npf::ConvertSettings, npf::DetailGrid, npf::testing::contains,
       npf::testing::describe, npf::testing::ToolRun;
 
@@ -44,25 +46,10 @@ const npf::Brdf& lobe() {
 
 // A quick RGB fit: a coarse base (so that the detail layer has something to add) and a short ladder.
 ConvertSettings small_settings() {
-    ConvertSettings s = npf::preset_settings(npf::ConvertPreset::Production, true);
-    s.fit.grid = {16, 1, 12, 24};
-    s.fit.g_theta = 12;
-    s.fit.max_iterations = 30;
-    s.fit.threads = 2;
+    ConvertSettings s = npf::testing::small_ladder_settings();
     s.error_pairs = 1000;
     s.detail.grid = DetailGrid{8, 4, 8};
-    s.target_ladder = {DetailGrid{8, 4, 8}, DetailGrid{16, 8, 16}};
-    s.prediction.threads = 2;
-    // A quarter of the default render (the ladder predicts every candidate).
-    s.prediction.size = 64;
-    s.prediction.spp = 16;
     return s;
-}
-
-std::string meta(const npf::NpfModel& m, const std::string& key) {
-    for (const auto& [k, v] : m.metadata)
-        if (k == key) return v;
-    return "(absent)";
 }
 
 std::uintmax_t bytes(const std::string& path) { return std::filesystem::file_size(path); }
@@ -114,8 +101,8 @@ TEST(TargetPsnr, LadderPicksTheSmallestThatMeetsTheTarget) {
     for (const ConvertReport::TargetCandidate& c : best.target_candidates) highest = std::max(highest, c.psnr);
     EXPECT_EQ(best.prediction.psnr, highest);
     const npf::NpfModel best_file = npf::read_npf_texture(dir + "/best.exr");
-    EXPECT_EQ(meta(best_file, "target_psnr_met"), "false");
-    EXPECT_EQ(meta(best_file, "target_psnr"), "200");
+    EXPECT_EQ(metadata_value(best_file, "target_psnr_met"), "false");
+    EXPECT_EQ(metadata_value(best_file, "target_psnr"), "200");
     const double base_psnr = best.target_candidates[0].psnr;
     ASSERT_GT(highest, base_psnr + 1.0) << "the detail layer should add to a coarse base";
 
@@ -133,8 +120,8 @@ TEST(TargetPsnr, LadderPicksTheSmallestThatMeetsTheTarget) {
     EXPECT_GE(high.prediction.psnr, s.target_psnr);
     EXPECT_LT(bytes(dir + "/low.exr"), bytes(dir + "/high.exr"));
     const npf::NpfModel high_file = npf::read_npf_texture(dir + "/high.exr");
-    EXPECT_EQ(meta(high_file, "target_psnr_met"), "true");
-    EXPECT_NEAR(std::stod(meta(high_file, "target_psnr_reached")), high.prediction.psnr, 1e-4 * high.prediction.psnr);
+    EXPECT_EQ(metadata_value(high_file, "target_psnr_met"), "true");
+    EXPECT_NEAR(std::stod(metadata_value(high_file, "target_psnr_reached")), high.prediction.psnr, 1e-4 * high.prediction.psnr);
 }
 
 TEST(TargetPsnr, RejectsBadTargets) {
@@ -220,16 +207,16 @@ TEST(TargetPsnrCli, SummaryAndMetadata) {
     for (const char* key : {"predicted_psnr", "predicted_psnr_floor", "predicted_psnr_render", "energy_error",
                             "energy_error_view_theta", "energy_error_views", "target_psnr", "target_psnr_met",
                             "target_psnr_reached", "target_psnr_candidates"}) {
-        EXPECT_NE(meta(m, key), "(absent)") << key;
+        EXPECT_NE(metadata_value(m, key), "(absent)") << key;
     }
-    EXPECT_EQ(meta(m, "target_psnr_met"), "true");
+    EXPECT_EQ(metadata_value(m, "target_psnr_met"), "true");
 
     const ToolRun quick = convert(dir + "/q.exr", {"--no-predict", "--detail", "8,4,8"});
     ASSERT_EQ(quick.status, 0) << describe(quick);
     EXPECT_FALSE(contains(quick.out, "predicted")) << quick.out;
     const npf::NpfModel q = npf::read_npf_texture(dir + "/q.exr");
-    EXPECT_EQ(meta(q, "predicted_psnr"), "(absent)");
-    EXPECT_NE(meta(q, "energy_error"), "(absent)");
+    EXPECT_EQ(metadata_value(q, "predicted_psnr"), "(absent)");
+    EXPECT_NE(metadata_value(q, "energy_error"), "(absent)");
 }
 
 // A target nothing reaches: status 0, one warning line, the file marked.
@@ -241,8 +228,8 @@ TEST(TargetPsnrCli, UnreachableTargetWarnsAndMarksTheFile) {
     ASSERT_EQ(npf::testing::lines_of(r.err).size(), 1u) << r.err;
     EXPECT_TRUE(contains(r.err, "warning: target 200.00 dB not reached")) << r.err;
     const npf::NpfModel m = npf::read_npf_texture(dir + "/u.exr");
-    EXPECT_EQ(meta(m, "target_psnr_met"), "false");
-    EXPECT_TRUE(contains(meta(m, "target_psnr_candidates"), "16x8x16:")) << meta(m, "target_psnr_candidates");
+    EXPECT_EQ(metadata_value(m, "target_psnr_met"), "false");
+    EXPECT_TRUE(contains(metadata_value(m, "target_psnr_candidates"), "16x8x16:")) << metadata_value(m, "target_psnr_candidates");
 }
 
 }  // namespace
