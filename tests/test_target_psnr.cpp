@@ -27,22 +27,9 @@
 
 namespace {
 
-using npf::testing::metadata_value;
+using npf::testing::metadata_value, npf::testing::synthetic_lobe, npf::testing::synthetic_lobe_path;
 using npf::ConvertReport, npf::ConvertSettings, npf::DetailGrid, npf::testing::contains,
       npf::testing::describe, npf::testing::ToolRun;
-
-// An RGB source (a spectral one renders at its wavelengths, many times slower): a small
-// synthetic RGL file, a peaked lobe over a diffuse floor.
-const std::string& source_path() {
-    static const std::string path = npf::testing::write_synthetic_rgl(
-        npf::testing::SyntheticRglSpec{}, npf::testing::temporary_folder("target-psnr-source") + "/lobe.bsdf");
-    return path;
-}
-
-const npf::Brdf& lobe() {
-    static const std::unique_ptr<npf::RglBrdf> source = npf::RglBrdf::load(source_path());
-    return *source;
-}
 
 // A quick RGB fit: a coarse base (so that the detail layer has something to add) and a short ladder.
 ConvertSettings small_settings() {
@@ -64,7 +51,7 @@ TEST(TargetPsnr, PredictionMatchesAFullSizePairedRender) {
     ConvertSettings s = small_settings();
     s.prediction = npf::PsnrPredictionOptions{};  // the default render
     s.prediction.threads = 2;
-    const ConvertReport r = npf::convert_material(lobe(), out, s);
+    const ConvertReport r = npf::convert_material(synthetic_lobe(), out, s);
     ASSERT_TRUE(r.predicted);
     ASSERT_TRUE(std::isfinite(r.prediction.psnr));
     EXPECT_GT(r.prediction.floor_psnr, r.prediction.psnr);
@@ -81,7 +68,7 @@ TEST(TargetPsnr, PredictionMatchesAFullSizePairedRender) {
     o.threads = 2;
     o.sampling = npf::render::Sampling::Environment;
     const npf::NpfBrdf written(out);
-    const npf::render::ImageMetrics full = npf::render::compare_images(npf::render::render(lobe(), env, o).image,
+    const npf::render::ImageMetrics full = npf::render::compare_images(npf::render::render(synthetic_lobe(), env, o).image,
                                                                        npf::render::render(written, env, o).image);
     EXPECT_NEAR(studio.psnr, full.psnr, 1.0) << "prediction " << r.prediction_settings;
     EXPECT_LE(r.prediction.psnr, studio.psnr);
@@ -94,7 +81,7 @@ TEST(TargetPsnr, LadderPicksTheSmallestThatMeetsTheTarget) {
     ConvertSettings s = small_settings();
 
     s.target_psnr = 200.0;  // unreachable
-    const ConvertReport best = npf::convert_material(lobe(), dir + "/best.exr", s);
+    const ConvertReport best = npf::convert_material(synthetic_lobe(), dir + "/best.exr", s);
     ASSERT_EQ(best.target_candidates.size(), 3u);
     EXPECT_FALSE(best.target_met);
     double highest = 0.0;
@@ -107,14 +94,14 @@ TEST(TargetPsnr, LadderPicksTheSmallestThatMeetsTheTarget) {
     ASSERT_GT(highest, base_psnr + 1.0) << "the detail layer should add to a coarse base";
 
     s.target_psnr = base_psnr - 0.5;
-    const ConvertReport low = npf::convert_material(lobe(), dir + "/low.exr", s);
+    const ConvertReport low = npf::convert_material(synthetic_lobe(), dir + "/low.exr", s);
     EXPECT_TRUE(low.target_met);
     EXPECT_FALSE(low.has_detail);
     EXPECT_EQ(low.target_candidates.size(), 1u);
     EXPECT_GE(low.prediction.psnr, s.target_psnr);
 
     s.target_psnr = highest - 0.01;
-    const ConvertReport high = npf::convert_material(lobe(), dir + "/high.exr", s);
+    const ConvertReport high = npf::convert_material(synthetic_lobe(), dir + "/high.exr", s);
     EXPECT_TRUE(high.target_met);
     EXPECT_TRUE(high.has_detail);
     EXPECT_GE(high.prediction.psnr, s.target_psnr);
@@ -134,14 +121,14 @@ TEST(TargetPsnr, RejectsBadTargets) {
     ConvertSettings s = small_settings();
     s.target_psnr = -1.0;
     const std::string dir = npf::testing::temporary_folder("target-psnr");
-    EXPECT_THROW(npf::convert_material(lobe(), dir + "/bad.exr", s), npf::Error);
+    EXPECT_THROW(npf::convert_material(synthetic_lobe(), dir + "/bad.exr", s), npf::Error);
     EXPECT_FALSE(std::filesystem::exists(dir + "/bad.exr"));
 }
 
 // The batch key takes the flag's rule (one check, parse_target_psnr) and reaches the settings.
 TEST(TargetPsnr, BatchKey) {
     const std::string dir = npf::testing::temporary_folder("target-psnr");
-    const std::string head = "output_dir: out\ninputs: [" + source_path() + "]\ndefaults:\n  target_psnr: ";
+    const std::string head = "output_dir: out\ninputs: [" + synthetic_lobe_path() + "]\ndefaults:\n  target_psnr: ";
     const npf::batch::BatchConfig c = npf::batch::parse_batch_config(head + "45\n", "b.yaml", dir);
     ASSERT_EQ(c.materials.size(), 1u);
     EXPECT_EQ(npf::batch::resolve_convert_settings(c.materials[0].settings, true).target_psnr, 45.0);
@@ -161,7 +148,7 @@ const std::vector<std::string> kSmallFlags = {"--grid", "16,1,12,24", "--g-grid"
                                               "--threads", "2", "--quiet", "--error-pairs", "1000"};
 
 ToolRun convert(const std::string& out, std::vector<std::string> extra) {
-    std::vector<std::string> args = {"convert", source_path(), "-o", out};
+    std::vector<std::string> args = {"convert", synthetic_lobe_path(), "-o", out};
     args.insert(args.end(), kSmallFlags.begin(), kSmallFlags.end());
     args.insert(args.end(), extra.begin(), extra.end());
     return npf::testing::run_tool(args);
