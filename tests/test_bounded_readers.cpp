@@ -2,6 +2,7 @@
 // item 7): sparse files that claim gigabytes, fields and tables above the documented caps,
 // shapes of absurd rank, finite but absurd values, MERL files of the wrong size, overflowing
 // direction components, images whose alpha could pass for blue.
+#include "error_of.h"
 #include "merl_writer.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
@@ -35,6 +36,8 @@
 
 namespace {
 
+using npf::testing::error_of;
+
 namespace fs = std::filesystem;
 using npf::testing::ToolRun;
 
@@ -47,15 +50,6 @@ long peak_rss_kib() {
 // Extends `path` to `bytes` without writing them (a sparse file: no disk used).
 void extend_sparse(const std::string& path, std::uint64_t bytes) {
     ASSERT_EQ(::truncate(path.c_str(), off_t(bytes)), 0) << path;
-}
-
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const npf::Error& e) {
-        return e.what();
-    }
-    return "";
 }
 
 void le(std::vector<std::uint8_t>& b, std::uint64_t v, int n) {

@@ -15,9 +15,7 @@
 
 namespace {
 
-using npf::BrdfComparison;
-using npf::DirectionPair;
-using npf::Vec3;
+using npf::BrdfComparison, npf::DirectionPair, npf::Vec3;
 
 Vec3 at(double theta_deg, double phi_deg) {
     const double t = theta_deg * npf::kPiD / 180.0, p = phi_deg * npf::kPiD / 180.0;

@@ -12,19 +12,9 @@
 
 namespace {
 
-using npf::Brdf;
-using npf::BrdfInfo;
-using npf::BrdfSample;
-using npf::ChannelQuery;
-using npf::Vec2;
-using npf::Vec3;
-using npf::testing::Chi2Options;
-using npf::testing::Chi2Result;
-using npf::testing::chi2_sf;
-using npf::testing::Pcg32;
-using npf::testing::regularized_gamma_p;
-using npf::testing::regularized_gamma_q;
-using npf::testing::run_chi2_test;
+using npf::Brdf, npf::BrdfInfo, npf::BrdfSample, npf::ChannelQuery, npf::Vec2, npf::Vec3,
+      npf::testing::Chi2Options, npf::testing::Chi2Result, npf::testing::chi2_sf, npf::testing::Pcg32,
+      npf::testing::regularized_gamma_p, npf::testing::regularized_gamma_q, npf::testing::run_chi2_test;
 
 constexpr float kPi = npf::kPi;
 

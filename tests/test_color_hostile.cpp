@@ -78,12 +78,20 @@ void expect_one_line_naming(const std::string& message, const std::string& path)
     EXPECT_FALSE(has(message, "\n")) << message;
 }
 
+// Writes `text` as a config in a fresh folder named after `tag`, and returns the message with
+// which reading colour space A from it is refused (one line, naming the file).
+std::string refused_config(const std::string& tag, const std::string& text) {
+    const std::string path = write_config(npf::testing::temporary_folder(tag), text);
+    const std::string m = refusal(path, "A");
+    expect_one_line_naming(m, path);
+    return m;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Reference cycles and depth: OCIO 2.1 follows references by recursion (SIGSEGV before)
 
 TEST(ColorHostile, ColourSpaceReferringToItselfIsRefused) {
-    const std::string dir = npf::testing::temporary_folder("hostile_self");
-    const std::string path = write_config(dir, config_text(
+    const std::string path = write_config(npf::testing::temporary_folder("hostile_self"), config_text(
         "  - !<ColorSpace> {name: A, to_scene_reference: !<ColorSpaceTransform> {src: A, dst: scene}}\n"));
     const std::string m = refusal(path, "A");
     expect_one_line_naming(m, path);
@@ -93,18 +101,14 @@ TEST(ColorHostile, ColourSpaceReferringToItselfIsRefused) {
 }
 
 TEST(ColorHostile, TwoColourSpacesReferringToEachOtherAreRefused) {
-    const std::string dir = npf::testing::temporary_folder("hostile_pair");
-    const std::string path = write_config(dir, config_text(
+    const std::string m = refused_config("hostile_pair", config_text(
         "  - !<ColorSpace> {name: A, to_scene_reference: !<ColorSpaceTransform> {src: B, dst: scene}}\n"
         "  - !<ColorSpace> {name: B, to_scene_reference: !<ColorSpaceTransform> {src: A, dst: scene}}\n"));
-    const std::string m = refusal(path, "A");
-    expect_one_line_naming(m, path);
     EXPECT_TRUE(has(m, "colour space 'A' refers to itself through colour space 'B' -> colour space 'A': refused")) << m;
 }
 
 TEST(ColorHostile, CycleThroughNestedGroupsIsRefused) {
-    const std::string dir = npf::testing::temporary_folder("hostile_groups");
-    const std::string path = write_config(dir, config_text(
+    const std::string m = refused_config("hostile_groups", config_text(
         "  - !<ColorSpace>\n"
         "    name: A\n"
         "    to_scene_reference: !<GroupTransform>\n"
@@ -114,19 +118,14 @@ TEST(ColorHostile, CycleThroughNestedGroupsIsRefused) {
         "  - !<ColorSpace>\n"
         "    name: B\n"
         "    from_scene_reference: !<GroupTransform> {children: [!<ColorSpaceTransform> {src: scene, dst: A}]}\n"));
-    const std::string m = refusal(path, "A");
-    expect_one_line_naming(m, path);
     EXPECT_TRUE(has(m, "colour space 'A' refers to itself through colour space 'B' -> colour space 'A'")) << m;
 }
 
 TEST(ColorHostile, CycleThroughALookIsRefused) {
-    const std::string dir = npf::testing::temporary_folder("hostile_look");
-    const std::string path = write_config(dir, config_text(
+    const std::string m = refused_config("hostile_look", config_text(
         "  - !<ColorSpace> {name: A, to_scene_reference: !<LookTransform> {src: scene, dst: scene, looks: +L}}\n",
         "looks:\n"
         "  - !<Look> {name: L, process_space: A, transform: !<MatrixTransform> {}}\n"));
-    const std::string m = refusal(path, "A");
-    expect_one_line_naming(m, path);
     EXPECT_TRUE(has(m, "colour space 'A' refers to itself through look 'L' -> colour space 'A'")) << m;
 }
 
@@ -149,18 +148,21 @@ TEST(ColorHostile, CycleThroughANamedTransformIsRefused) {
     EXPECT_TRUE(has(m, "named transform 'N' refers to itself through view 'vn' of display 'd' -> named transform 'N'")) << m;
 }
 
-// A -> DisplayViewTransform -> view 'tone' -> view transform 'vt' -> A.
-TEST(ColorHostile, CycleThroughADisplayViewAndViewTransformIsRefused) {
-    const std::string dir = npf::testing::temporary_folder("hostile_view");
-    const std::string path = write_config(dir, config_text(
+// Colour space A goes through a DisplayViewTransform to view 'tone' of display 'd', whose view
+// transform 'vt' leads back to A; `view` is the line that defines view 'tone'.
+std::string view_cycle_config(const std::string& view) {
+    return config_text(
         "  - !<ColorSpace> {name: A, to_scene_reference: !<DisplayViewTransform> {src: scene, display: d, view: tone}}\n",
         "view_transforms:\n"
         "  - !<ViewTransform> {name: vt, from_scene_reference: !<ColorSpaceTransform> {src: A, dst: scene}}\n"
         "display_colorspaces:\n"
         "  - !<ColorSpace> {name: screen}\n",
-        "    - !<View> {name: tone, view_transform: vt, display_colorspace: screen}\n"));
-    const std::string m = refusal(path, "A");
-    expect_one_line_naming(m, path);
+        view);
+}
+
+// A -> DisplayViewTransform -> view 'tone' -> view transform 'vt' -> A.
+TEST(ColorHostile, CycleThroughADisplayViewAndViewTransformIsRefused) {
+    const std::string m = refused_config("hostile_view", view_cycle_config("    - !<View> {name: tone, view_transform: vt, display_colorspace: screen}\n"));
     EXPECT_TRUE(has(m, "colour space 'A' refers to itself through view 'tone' of display 'd'")) << m;
     EXPECT_TRUE(has(m, "view transform 'vt'")) << m;
 }
@@ -168,16 +170,7 @@ TEST(ColorHostile, CycleThroughADisplayViewAndViewTransformIsRefused) {
 // Found by npf_fuzz_ocio_config: a view showing a display space without a view transform goes
 // through the default view transform (scene to display reference), which here refers back.
 TEST(ColorHostile, CycleThroughTheDefaultViewTransformIsRefused) {
-    const std::string dir = npf::testing::temporary_folder("hostile_default_vt");
-    const std::string path = write_config(dir, config_text(
-        "  - !<ColorSpace> {name: A, to_scene_reference: !<DisplayViewTransform> {src: scene, display: d, view: tone}}\n",
-        "view_transforms:\n"
-        "  - !<ViewTransform> {name: vt, from_scene_reference: !<ColorSpaceTransform> {src: A, dst: scene}}\n"
-        "display_colorspaces:\n"
-        "  - !<ColorSpace> {name: screen}\n",
-        "    - !<View> {name: tone, colorspace: screen}\n"));
-    const std::string m = refusal(path, "A");
-    expect_one_line_naming(m, path);
+    const std::string m = refused_config("hostile_default_vt", view_cycle_config("    - !<View> {name: tone, colorspace: screen}\n"));
     EXPECT_TRUE(has(m, "colour space 'A' refers to itself through view 'tone' of display 'd' -> view transform 'vt' -> colour space 'A'"))
         << m;
 }

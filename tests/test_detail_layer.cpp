@@ -36,12 +36,7 @@
 
 namespace {
 
-using npf::DetailGrid;
-using npf::NpfClosure;
-using npf::NpfModel;
-using npf::Vec3;
-using npf::Vec3d;
-using npf::WavelengthRequest;
+using npf::DetailGrid, npf::NpfClosure, npf::NpfModel, npf::Vec3, npf::Vec3d, npf::WavelengthRequest;
 
 constexpr double kHalfPi = 0.5 * npf::kPiD, kTwoPi = 2.0 * npf::kPiD;
 

@@ -21,12 +21,7 @@
 
 namespace {
 
-using npf::ClosureSample;
-using npf::NpfBrdf;
-using npf::NpfClosure;
-using npf::NpfModel;
-using npf::Vec3;
-using npf::WavelengthRequest;
+using npf::ClosureSample, npf::NpfBrdf, npf::NpfClosure, npf::NpfModel, npf::Vec3, npf::WavelengthRequest;
 
 NpfModel mostly_diffuse() {
     npf::testing::MicrofacetSpec spec;

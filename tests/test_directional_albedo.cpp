@@ -25,17 +25,9 @@
 
 namespace {
 
-using npf::AlbedoRow;
-using npf::AlbedoTableOptions;
-using npf::AnalyticBrdf;
-using npf::AnalyticMaterial;
-using npf::Brdf;
-using npf::ChannelQuery;
-using npf::Channels;
-using npf::DirectionalAlbedoOptions;
-using npf::Vec2;
-using npf::Vec3;
-using npf::color::SampledSpectrum;
+using npf::AlbedoRow, npf::AlbedoTableOptions, npf::AnalyticBrdf, npf::AnalyticMaterial, npf::Brdf,
+      npf::ChannelQuery, npf::Channels, npf::DirectionalAlbedoOptions, npf::Vec2, npf::Vec3,
+      npf::color::SampledSpectrum;
 constexpr double kPi = npf::kPiD;
 
 Vec3 view(double theta_deg, double phi_deg = 0.0) {

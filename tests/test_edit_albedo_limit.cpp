@@ -25,9 +25,7 @@
 
 namespace {
 
-using npf::NpfModel;
-using npf::edit::AlbedoLimit;
-using npf::NpfAlbedoQuadrature;
+using npf::NpfModel, npf::edit::AlbedoLimit, npf::NpfAlbedoQuadrature;
 constexpr double kPi = npf::kPiD;
 
 // make_microfacet_factors' Schlick F is 1 at normal incidence and 2 at grazing in the fitter's

@@ -1,6 +1,7 @@
 // End-to-end tests of `npf edit`: the identity recipe writes the same factors, flags run in the
 // order given after the recipe's steps, `npf info` shows the history, and bad input fails with a
 // message naming the problem and leaves no file behind.
+#include "model_equality.h"
 #include "npf_test_factors.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
@@ -16,11 +17,8 @@
 
 namespace {
 
-using npf::NpfModel;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::folder_entries;
-using npf::testing::ToolRun;
+using npf::NpfModel, npf::testing::contains, npf::testing::describe, npf::testing::folder_entries,
+      npf::testing::ToolRun;
 
 const std::string kEdits = std::string(NPF_SOURCE_DIR) + "/configs/edits";
 
@@ -59,13 +57,7 @@ TEST(EditCli, IdentityRecipeWritesTheSameFactors) {
     EXPECT_TRUE(contains(r.out, "[5] thin film 0 nm")) << r.out;
     EXPECT_TRUE(r.err.empty()) << r.err;
     const NpfModel a = npf::read_npf_texture(in), b = npf::read_npf_texture(out);
-    EXPECT_EQ(a.rho_d, b.rho_d);
-    EXPECT_EQ(a.rho_s, b.rho_s);
-    EXPECT_EQ(a.F, b.F);
-    EXPECT_EQ(a.D.basis, b.D.basis);
-    EXPECT_EQ(a.D.weights, b.D.weights);
-    EXPECT_EQ(a.G.basis, b.G.basis);
-    EXPECT_EQ(a.G.weights, b.G.weights);
+    npf::testing::expect_same_factors(a, b);
     const ToolRun info = npf::testing::run_tool({"info", out});
     ASSERT_EQ(info.status, 0) << describe(info);
     EXPECT_TRUE(contains(info.out, "description: identity edit (no change)")) << info.out;

@@ -1,6 +1,7 @@
 // The edit kinds (issue 18; npf/edit/edit_kinds.h): every registered kind is reachable from the
 // flags of `npf edit` and from a recipe and builds the same step from the same values; the help
 // and the recipe's messages list the registry; a kind added to a registry reaches both readers.
+#include "error_of.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -21,10 +22,9 @@
 
 namespace {
 
-using npf::edit::EditKind;
-using npf::edit::EditKinds;
-using npf::edit::EditStep;
-using npf::edit::GivenFlags;
+using npf::testing::error_of;
+
+using npf::edit::EditKind, npf::edit::EditKinds, npf::edit::EditStep, npf::edit::GivenFlags;
 
 std::string exact(double v) {
     char b[40];
@@ -53,15 +53,6 @@ std::string content_of(const EditStep& s) {
     t += "; compression " + std::to_string(s.compression.d_rank) + " " + std::to_string(s.compression.g_rank) + " " +
          exact(s.compression.d_ratio) + " " + exact(s.compression.g_ratio);
     return t + "; cap " + exact(s.cap);
-}
-
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const npf::Error& e) {
-        return e.what();
-    }
-    return "(no error)";
 }
 
 EditStep recipe_step(const std::string& key, const std::string& value, const std::string& dir,

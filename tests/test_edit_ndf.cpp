@@ -3,6 +3,7 @@
 // GGX material with the transformed roughness (D and Smith's G) to the grid's interpolation
 // error, a stretch and its inverse come back to that error, and D and G are compressed again at
 // the input's rank.
+#include "model_equality.h"
 #include "npf_test_factors.h"
 
 #include <npf/fit/spectral_compression.h>
@@ -19,9 +20,7 @@
 
 namespace {
 
-using npf::NpfModel;
-using npf::edit::Mat3;
-using npf::testing::MicrofacetSpec;
+using npf::NpfModel, npf::edit::Mat3, npf::testing::MicrofacetSpec;
 constexpr double kPi = npf::kPiD;
 
 NpfModel microfacet(double ax, double ay, bool anisotropic, bool spectral = false, int d_theta = 32) {
@@ -95,13 +94,7 @@ void expect_bit_identical(const NpfModel& a, const NpfModel& b) {
     EXPECT_EQ(a.d_theta, b.d_theta);
     EXPECT_EQ(a.d_phi, b.d_phi);
     EXPECT_EQ(a.g_phi, b.g_phi);
-    EXPECT_EQ(a.rho_d, b.rho_d);
-    EXPECT_EQ(a.rho_s, b.rho_s);
-    EXPECT_EQ(a.F, b.F);
-    EXPECT_EQ(a.D.basis, b.D.basis);
-    EXPECT_EQ(a.D.weights, b.D.weights);
-    EXPECT_EQ(a.G.basis, b.G.basis);
-    EXPECT_EQ(a.G.weights, b.G.weights);
+    npf::testing::expect_same_factors(a, b);
     EXPECT_EQ(a.D.singular_values, b.D.singular_values);
 }
 

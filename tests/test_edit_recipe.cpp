@@ -1,6 +1,7 @@
 // Edit recipes and the edit history (issue 7; docs/editing.md): every shipped recipe parses, the
 // identity recipe changes nothing, steps run in order, the history goes into the metadata and
 // survives the file, and bad recipes fail with the file, the line and the key.
+#include "model_equality.h"
 #include "npf_test_factors.h"
 #include "synthetic_rgl.h"
 
@@ -69,13 +70,7 @@ TEST(EditRecipe, IdentityRecipeChangesNothing) {
             const NpfModel m = material(spectral, aniso);
             const npf::edit::EditResult out = npf::edit::apply_edits(m, r.steps, r.options);
             const NpfModel& e = out.model;
-            EXPECT_EQ(e.rho_d, m.rho_d);
-            EXPECT_EQ(e.rho_s, m.rho_s);
-            EXPECT_EQ(e.F, m.F);
-            EXPECT_EQ(e.D.basis, m.D.basis);
-            EXPECT_EQ(e.D.weights, m.D.weights);
-            EXPECT_EQ(e.G.basis, m.G.basis);
-            EXPECT_EQ(e.G.weights, m.G.weights);
+            npf::testing::expect_same_factors(e, m);
             EXPECT_EQ(e.D.singular_values, m.D.singular_values);
             EXPECT_EQ(e.d_phi, m.d_phi);
             ASSERT_EQ(out.records.size(), r.steps.size());

@@ -19,10 +19,7 @@
 
 namespace {
 
-using npf::NpfModel;
-using npf::color::SampledSpectrum;
-using npf::edit::FilmMode;
-using npf::edit::ThinFilm;
+using npf::NpfModel, npf::color::SampledSpectrum, npf::edit::FilmMode, npf::edit::ThinFilm;
 constexpr double kPi = npf::kPiD;
 
 // A microfacet material whose F is `fresnel` (in the gauge: divided by its first cell) and whose

@@ -35,11 +35,8 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::NpfClosure;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::shell_quote;
-using npf::testing::ToolRun;
+using npf::NpfClosure, npf::testing::contains, npf::testing::describe, npf::testing::shell_quote,
+      npf::testing::ToolRun;
 
 // ---- The tools and the shell ----------------------------------------------------------------
 

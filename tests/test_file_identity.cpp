@@ -15,7 +15,6 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::FileUse;
 using npf::testing::error_of;
 
 struct Folder {

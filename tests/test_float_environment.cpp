@@ -20,9 +20,7 @@
 
 namespace {
 
-using npf::NpfClosure;
-using npf::NpfModel;
-using npf::Vec3;
+using npf::NpfClosure, npf::NpfModel, npf::Vec3;
 
 // A model whose detail basis holds values exact in half, most of them half denormals (below
 // 6.1e-5), with weights large enough that they matter: the writer stores such a basis as half.

@@ -3,6 +3,7 @@
 // worst, --light on the command line, and a target that a key light makes harder to meet.
 #include "run_tool.h"
 #include "synthetic_rgl.h"
+#include "target_ladder.h"
 
 #include <npf/converter/convert.h>
 #include <npf/converter/psnr_prediction.h>
@@ -26,12 +27,9 @@
 
 namespace {
 
-using npf::Vec3;
-using npf::render::DirectionalLight;
-using npf::render::Lighting;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::ToolRun;
+using npf::testing::metadata_value, npf::testing::synthetic_lobe, npf::testing::synthetic_lobe_path;
+using npf::Vec3, npf::render::DirectionalLight, npf::render::Lighting, npf::testing::contains,
+      npf::testing::describe, npf::testing::ToolRun;
 namespace key_rim = npf::render::key_rim;
 
 constexpr double kPi = 3.14159265358979323846;
@@ -63,17 +61,6 @@ private:
     float m_albedo;
     npf::BrdfInfo m_info;
 };
-
-const std::string& lobe_path() {
-    static const std::string path = npf::testing::write_synthetic_rgl(
-        npf::testing::SyntheticRglSpec{}, npf::testing::temporary_folder("lightings-source") + "/lobe.bsdf");
-    return path;
-}
-
-const npf::Brdf& lobe() {
-    static const std::unique_ptr<npf::RglBrdf> source = npf::RglBrdf::load(lobe_path());
-    return *source;
-}
 
 npf::render::RenderOptions small(std::size_t size) {
     npf::render::RenderOptions o;
@@ -146,8 +133,8 @@ TEST(Lightings, DirectionalRenderOfAMaterialAgainstItselfIsExact) {
     npf::render::RenderOptions a = small(24), b = small(24);
     b.seed = 99;  // unused: nothing is random
     b.spp = 1;
-    const npf::render::RenderResult one = npf::render::render(lobe(), directional, a);
-    const npf::render::RenderResult two = npf::render::render(lobe(), directional, b);
+    const npf::render::RenderResult one = npf::render::render(synthetic_lobe(), directional, a);
+    const npf::render::RenderResult two = npf::render::render(synthetic_lobe(), directional, b);
     ASSERT_EQ(one.image.pixels, two.image.pixels);
     EXPECT_TRUE(std::isinf(npf::render::compare_images(one.image, two.image).psnr));
     double lit = 0.0;
@@ -193,7 +180,7 @@ TEST(Lightings, PredictionIsTheWorstOfTheSet) {
     o.spp = 8;
     o.threads = 2;
     ASSERT_EQ(o.lightings, (std::vector<std::string>{"studio", "key-rim", "directional"}));
-    const npf::PsnrPredictor predictor(lobe(), o);
+    const npf::PsnrPredictor predictor(synthetic_lobe(), o);
     // Another material: a wider lobe.
     npf::testing::SyntheticRglSpec spec;
     spec.alpha_x = spec.alpha_y = 0.4f;
@@ -217,7 +204,7 @@ TEST(Lightings, PredictionIsTheWorstOfTheSet) {
     EXPECT_TRUE(std::isfinite(p.lightings[1].floor_psnr));
     EXPECT_TRUE(contains(predictor.settings_text(), "worst of studio")) << predictor.settings_text();
     // The source against itself: exactly equal under every lighting.
-    EXPECT_TRUE(std::isinf(predictor.predict(lobe(), false).psnr));
+    EXPECT_TRUE(std::isinf(predictor.predict(synthetic_lobe(), false).psnr));
 }
 
 TEST(Lightings, UnknownNamesAndBadListsAreRefused) {
@@ -233,7 +220,7 @@ TEST(Lightings, UnknownNamesAndBadListsAreRefused) {
               (std::vector<std::string>{"key-rim", "directional"}));
     npf::PsnrPredictionOptions o;
     o.lightings = {"nope"};
-    EXPECT_THROW(npf::PsnrPredictor(lobe(), o), npf::Error);
+    EXPECT_THROW(npf::PsnrPredictor(synthetic_lobe(), o), npf::Error);
 }
 
 // ---- the command line ----------------------------------------------------------------------------
@@ -246,9 +233,9 @@ std::string attribute(const std::string& path, const std::string& name) {
 TEST(LightingsCli, UnknownLightIsOneLineNamingItExit1) {
     const std::string dir = npf::testing::temporary_folder("lightings-cli");
     for (const std::vector<std::string>& args :
-         {std::vector<std::string>{"render", lobe_path(), "-o", dir + "/x.exr", "--light", "spotlight"},
-          std::vector<std::string>{"render", lobe_path(), "-o", dir + "/x.exr", "--env", "spotlight"},
-          std::vector<std::string>{"convert", lobe_path(), "-o", dir + "/x.exr", "--light", "studio,spotlight"}}) {
+         {std::vector<std::string>{"render", synthetic_lobe_path(), "-o", dir + "/x.exr", "--light", "spotlight"},
+          std::vector<std::string>{"render", synthetic_lobe_path(), "-o", dir + "/x.exr", "--env", "spotlight"},
+          std::vector<std::string>{"convert", synthetic_lobe_path(), "-o", dir + "/x.exr", "--light", "studio,spotlight"}}) {
         const ToolRun r = npf::testing::run_tool(args);
         EXPECT_EQ(r.status, 1) << describe(r);
         EXPECT_EQ(npf::testing::lines_of(r.err).size(), 1u) << describe(r);
@@ -262,7 +249,7 @@ TEST(LightingsCli, RenderUnderEachLighting) {
     const std::string dir = npf::testing::temporary_folder("lightings-cli");
     for (const std::string light : {"key-rim", "directional"}) {
         const std::string out = dir + "/" + light + ".exr";
-        const ToolRun r = npf::testing::run_tool({"render", lobe_path(), "-o", out, "--light", light, "--size", "16", "--spp",
+        const ToolRun r = npf::testing::run_tool({"render", synthetic_lobe_path(), "-o", out, "--light", light, "--size", "16", "--spp",
                                                   "4", "--threads", "2", "--quiet"});
         ASSERT_EQ(r.status, 0) << describe(r);
         EXPECT_TRUE(contains(r.out, "under " + light)) << r.out;
@@ -275,14 +262,14 @@ TEST(LightingsCli, RenderUnderEachLighting) {
             EXPECT_EQ(attribute(out, "npf:envmap_size"), "2048x1024");
         }
     }
-    const ToolRun both = npf::testing::run_tool({"render", lobe_path(), "-o", dir + "/y.exr", "--light", "studio", "--env", "key-rim"});
+    const ToolRun both = npf::testing::run_tool({"render", synthetic_lobe_path(), "-o", dir + "/y.exr", "--light", "studio", "--env", "key-rim"});
     EXPECT_EQ(both.status, 1) << describe(both);
 }
 
 // A batch: the light key sets the prediction's set, render.env takes a lighting's name.
 TEST(LightingsCli, BatchTakesLightingNames) {
     const std::string dir = npf::testing::temporary_folder("lightings-batch");
-    npf::testing::write_text(dir + "/batch.yaml", "output_dir: out\ninputs: [" + lobe_path() +
+    npf::testing::write_text(dir + "/batch.yaml", "output_dir: out\ninputs: [" + synthetic_lobe_path() +
                                                       "]\ndefaults:\n  preset: preview\n  error_pairs: 0\n  threads: 2\n"
                                                       "  light: [key-rim, directional]\n"
                                                       "  render: {size: 16, spp: 2, threads: 2, env: key-rim}\n");
@@ -303,24 +290,10 @@ TEST(LightingsCli, BatchTakesLightingNames) {
 // ---- --light decides what a target picks ---------------------------------------------------------
 
 npf::ConvertSettings small_settings() {
-    npf::ConvertSettings s = npf::preset_settings(npf::ConvertPreset::Production, true);
-    s.fit.grid = {16, 1, 12, 24};
-    s.fit.g_theta = 12;
-    s.fit.max_iterations = 30;
-    s.fit.threads = 2;
+    npf::ConvertSettings s = npf::testing::small_ladder_settings();
     s.error_pairs = 0;
     s.detail.grid = npf::DetailGrid{};
-    s.target_ladder = {npf::DetailGrid{8, 4, 8}, npf::DetailGrid{16, 8, 16}};
-    s.prediction.threads = 2;
-    s.prediction.size = 64;
-    s.prediction.spp = 16;
     return s;
-}
-
-std::string meta(const npf::NpfModel& m, const std::string& key) {
-    for (const auto& [k, v] : m.metadata)
-        if (k == key) return v;
-    return "(absent)";
 }
 
 // "Model only what the scene requires": the two lightings judge the coarse base differently (on
@@ -332,26 +305,26 @@ TEST(Lightings, LightChangesWhatTheTargetPicks) {
     const std::string dir = npf::testing::temporary_folder("lightings-target");
     npf::ConvertSettings s = small_settings();
     s.prediction.lightings = {"studio", "key-rim"};
-    const npf::ConvertReport base = npf::convert_material(lobe(), dir + "/base.exr", s);
+    const npf::ConvertReport base = npf::convert_material(synthetic_lobe(), dir + "/base.exr", s);
     ASSERT_EQ(base.prediction.lightings.size(), 2u);
     const double studio = base.prediction.lightings[0].psnr, key_rim_psnr = base.prediction.lightings[1].psnr;
     ASSERT_GT(std::fabs(studio - key_rim_psnr), 2.0) << "studio " << studio << " dB, key-rim " << key_rim_psnr << " dB";
     const npf::NpfModel base_file = npf::read_npf_texture(dir + "/base.exr");
-    EXPECT_NEAR(std::stod(meta(base_file, "predicted_psnr_studio")), studio, 1e-4 * studio);
-    EXPECT_NEAR(std::stod(meta(base_file, "predicted_psnr_key-rim")), key_rim_psnr, 1e-4 * key_rim_psnr);
-    EXPECT_NE(meta(base_file, "predicted_psnr_key-rim_floor"), "(absent)");
-    EXPECT_NEAR(std::stod(meta(base_file, "predicted_psnr")), std::min(studio, key_rim_psnr), 1e-4 * std::min(studio, key_rim_psnr));
-    EXPECT_TRUE(contains(meta(base_file, "predicted_psnr_render"), "worst of studio")) << meta(base_file, "predicted_psnr_render");
+    EXPECT_NEAR(std::stod(metadata_value(base_file, "predicted_psnr_studio")), studio, 1e-4 * studio);
+    EXPECT_NEAR(std::stod(metadata_value(base_file, "predicted_psnr_key-rim")), key_rim_psnr, 1e-4 * key_rim_psnr);
+    EXPECT_NE(metadata_value(base_file, "predicted_psnr_key-rim_floor"), "(absent)");
+    EXPECT_NEAR(std::stod(metadata_value(base_file, "predicted_psnr")), std::min(studio, key_rim_psnr), 1e-4 * std::min(studio, key_rim_psnr));
+    EXPECT_TRUE(contains(metadata_value(base_file, "predicted_psnr_render"), "worst of studio")) << metadata_value(base_file, "predicted_psnr_render");
 
     const bool studio_easier = studio > key_rim_psnr;
     s.target_psnr = std::max(studio, key_rim_psnr) - 1.0;
     s.prediction.lightings = {studio_easier ? "studio" : "key-rim"};
-    const npf::ConvertReport easy = npf::convert_material(lobe(), dir + "/easy.exr", s);
+    const npf::ConvertReport easy = npf::convert_material(synthetic_lobe(), dir + "/easy.exr", s);
     EXPECT_TRUE(easy.target_met);
     EXPECT_FALSE(easy.has_detail);
     EXPECT_EQ(easy.target_candidates.size(), 1u);
     s.prediction.lightings = {studio_easier ? "key-rim" : "studio"};
-    const npf::ConvertReport hard = npf::convert_material(lobe(), dir + "/hard.exr", s);
+    const npf::ConvertReport hard = npf::convert_material(synthetic_lobe(), dir + "/hard.exr", s);
     EXPECT_TRUE(hard.has_detail);
     EXPECT_GT(hard.target_candidates.size(), 1u);
     EXPECT_LT(std::filesystem::file_size(dir + "/easy.exr"), std::filesystem::file_size(dir + "/hard.exr"));

@@ -2,15 +2,18 @@
 // here with npf::testing::write_merl (tests/support), and expected values are computed from the format's definition
 // (half/difference angles, square-root theta_h grid, reciprocity fold, channel scales) with
 // geometry written independently of the reader.
+// Here a full 90 x 90 x 180 table whose channels spell out the bin; small tables:
+// test_merl_small_tables.cpp; bad input: test_merl_bad_input.cpp.
+
+#include "merl_geometry.h"
 #include "merl_writer.h"
 
-#include <npf/materials/merl_brdf.h>
 #include <npf/core/error.h>
+#include <npf/materials/merl_brdf.h>
 
 #include <chi2.h>
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -18,103 +21,14 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
 namespace {
 
 namespace fs = std::filesystem;
-using npf::MerlBrdf;
-using npf::MerlLookup;
-using npf::Vec3;
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kScale[3] = {1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0};
-
-// One folder per test process, removed when the process ends.
-class TempFolder {
-public:
-    TempFolder() {
-        std::random_device rd;
-        m_path = fs::temp_directory_path() /
-                 ("npf_test_merl_" + std::to_string(rd()) + "_" + std::to_string(rd()));
-        fs::create_directories(m_path);
-    }
-    ~TempFolder() {
-        std::error_code ec;
-        fs::remove_all(m_path, ec);
-    }
-    std::string file(const std::string& name) const { return (m_path / name).string(); }
-
-private:
-    fs::path m_path;
-};
-
-const TempFolder& temp_folder() {
-    static TempFolder folder;
-    return folder;
-}
-
-npf::ChannelQuery rgb_query(bool clamp_negative = true) {
-    npf::ChannelQuery q;
-    q.requested = npf::Channels::rgb();
-    q.index0 = {0, 1, 2};
-    q.index1 = {0, 1, 2};
-    q.weight1 = {0.f, 0.f, 0.f};
-    q.clamp_negative = clamp_negative;
-    return q;
-}
-
-struct DirectionPair {
-    Vec3 wi, wo;
-};
-
-// The inverse of the MERL parameterisation: the difference vector d (polar theta_d, azimuth
-// phi_d about the half vector) is rotated about y by theta_h, then about z by phi_h; wo is d
-// mirrored about the half vector (-d.x, -d.y, d.z) taken through the same rotations.
-DirectionPair pair_from_half_diff(double theta_h, double phi_h, double theta_d, double phi_d) {
-    const double dx = std::sin(theta_d) * std::cos(phi_d);
-    const double dy = std::sin(theta_d) * std::sin(phi_d);
-    const double dz = std::cos(theta_d);
-    auto to_local = [&](double x, double y, double z) {
-        const double x1 = x * std::cos(theta_h) + z * std::sin(theta_h);
-        const double z1 = -x * std::sin(theta_h) + z * std::cos(theta_h);
-        const double y1 = y;
-        return Vec3(static_cast<float>(x1 * std::cos(phi_h) - y1 * std::sin(phi_h)),
-                    static_cast<float>(x1 * std::sin(phi_h) + y1 * std::cos(phi_h)),
-                    static_cast<float>(z1));
-    };
-    return {to_local(dx, dy, dz), to_local(-dx, -dy, dz)};
-}
-
-// Continuous bin coordinates (bin k covers [k, k+1)) -> angles, per the format's index rules.
-double theta_h_at(double coord, int n) { return (coord / n) * (coord / n) * (kPi / 2); }
-double theta_d_at(double coord, int n) { return coord / n * (kPi / 2); }
-double phi_d_at(double coord, int n) { return coord / n * kPi; }
-
-Vec3 rotate_z(const Vec3& v, double angle) {
-    const double c = std::cos(angle), s = std::sin(angle);
-    return {static_cast<float>(c * v.x - s * v.y), static_cast<float>(s * v.x + c * v.y), v.z};
-}
-
-Vec3 random_upper_direction(npf::testing::Pcg32& rng) {
-    const double z = rng.next_float();
-    const double phi = 2 * kPi * rng.next_float();
-    const double r = std::sqrt(std::max(0.0, 1 - z * z));
-    return {static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)),
-            static_cast<float>(z)};
-}
-
-// f_r / channel scale: the stored number the reader picked (or blended) for channel c.
-std::array<double, 3> stored_numbers(const MerlBrdf& brdf, const DirectionPair& p) {
-    float out[3];
-    brdf.eval_cos(p.wi, p.wo, rgb_query(false), out);
-    std::array<double, 3> stored{};
-    for (int c = 0; c < 3; ++c) stored[c] = out[c] / p.wo.z / kScale[c];
-    return stored;
-}
+using namespace npf::testing::merl;
+using npf::MerlBrdf, npf::MerlLookup, npf::Vec3;
 
 // ---- A full 90 x 90 x 180 table whose channels spell out the bin ------------------------
 
@@ -126,7 +40,7 @@ constexpr double kSpecialStored[3] = {1234.5, 777.25, 42.125};
 class MerlIndexTable : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
-        s_path = temp_folder().file("index-table.binary");
+        s_path = merl_file("index-table.binary");
         npf::testing::write_merl(s_path, 90, 90, 180, [](int ith, int itd, int ipd, double rgb[3]) {
             if (ith == kSpecialTh && itd == kSpecialTd && ipd == kSpecialPd) {
                 for (int c = 0; c < 3; ++c) rgb[c] = kSpecialStored[c];
@@ -380,50 +294,6 @@ TEST_F(MerlIndexTable, PdfIntegratesToOne) {
     }
 }
 
-// (h) No NaN, Inf or negative value anywhere, including grazing and normal directions.
-void check_always_finite(const MerlBrdf& brdf, std::uint64_t seed, int pairs) {
-    npf::testing::Pcg32 rng(seed);
-    auto direction = [&](int kind) {
-        const double phi = 2 * kPi * rng.next_float();
-        double z = rng.next_float();
-        if (kind == 1) z = 1e-6;                    // just above the horizon
-        if (kind == 2) return Vec3(0.f, 0.f, 1.f);  // exactly the normal
-        if (kind == 3) z = 0.0;                     // on the horizon: must give 0
-        if (kind == 4) z = 1.0 - 1e-7;              // next to the normal
-        const double r = std::sqrt(1 - z * z);
-        return Vec3(static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)),
-                    static_cast<float>(z));
-    };
-    const npf::ChannelQuery clamped = rgb_query(true), raw = rgb_query(false);
-    for (int i = 0; i < pairs; ++i) {
-        const Vec3 wi = direction(static_cast<int>(rng.next_float() * 5));
-        const Vec3 wo = direction(static_cast<int>(rng.next_float() * 5));
-        const bool below = wi.z <= 0.f || wo.z <= 0.f;
-        float out[3], out_raw[3];
-        brdf.eval_cos(wi, wo, clamped, out);
-        brdf.eval_cos(wi, wo, raw, out_raw);
-        for (int c = 0; c < 3; ++c) {
-            ASSERT_TRUE(std::isfinite(out[c])) << i;
-            ASSERT_TRUE(std::isfinite(out_raw[c])) << i;
-            ASSERT_GE(out[c], 0.f) << i;
-            if (below) {
-                ASSERT_EQ(out[c], 0.f) << i;
-                ASSERT_EQ(out_raw[c], 0.f) << i;
-            }
-        }
-        const float p = brdf.pdf(wi, wo);
-        ASSERT_TRUE(std::isfinite(p) && p >= 0.f) << i;
-        if (below) {
-            ASSERT_EQ(p, 0.f) << i;
-        }
-        npf::BrdfSample s;
-        float weight[3];
-        if (brdf.sample(wi, {rng.next_float(), rng.next_float()}, clamped, s, weight)) {
-            ASSERT_TRUE(std::isfinite(s.pdf) && s.pdf > 0.f) << i;
-            for (float w : weight) ASSERT_TRUE(std::isfinite(w) && w >= 0.f) << i;
-        }
-    }
-}
 
 TEST_F(MerlIndexTable, AlwaysFiniteAndNonNegative) {
     check_always_finite(*s_nearest, 29, 50000);
@@ -480,252 +350,6 @@ TEST_F(MerlIndexTable, SniffsTheFormat) {
     EXPECT_FALSE(MerlBrdf::looks_like_merl(head, 11, size));
     head[0] = 0;  // theta_h dimension 0 (90 = 0x5a in the low byte)
     EXPECT_FALSE(MerlBrdf::looks_like_merl(head, sizeof head, size));
-}
-
-// ---- Small tables --------------------------------------------------------------------------
-
-// (d) A Lambertian table gives the constant f_r = stored * scale everywhere, in both modes and
-// on a grid other than 90 x 90 x 180.
-TEST(MerlBrdf, LambertianTable) {
-    const std::string path = temp_folder().file("lambert.binary");
-    const double stored[3] = {300.0, 400.0, 500.0};
-    npf::testing::write_merl(path, 9, 7, 11, [&](int, int, int, double rgb[3]) {
-        for (int c = 0; c < 3; ++c) rgb[c] = stored[c];
-    });
-    npf::testing::Pcg32 rng(31);
-    for (MerlLookup lookup : {MerlLookup::Nearest, MerlLookup::Linear}) {
-        const auto brdf = MerlBrdf::load(path, {lookup});
-        EXPECT_EQ(brdf->theta_d_bins(), 7);
-        for (int i = 0; i < 5000; ++i) {
-            const Vec3 wi = random_upper_direction(rng), wo = random_upper_direction(rng);
-            if (wi.z <= 0.f || wo.z <= 0.f) continue;
-            float out[3];
-            brdf->eval_cos(wi, wo, rgb_query(), out);
-            for (int c = 0; c < 3; ++c)
-                ASSERT_FLOAT_EQ(out[c] / wo.z, static_cast<float>(stored[c] * kScale[c]));
-        }
-        float out[3];
-        brdf->eval_cos({0.f, 0.f, 1.f}, {0.6f, 0.f, -0.8f}, rgb_query(), out);
-        for (float v : out) EXPECT_EQ(v, 0.f);
-        brdf->eval_cos({0.6f, 0.f, 0.f}, {0.f, 0.f, 1.f}, rgb_query(), out);
-        for (float v : out) EXPECT_EQ(v, 0.f);
-    }
-}
-
-// (e) Linear is continuous, also across phi_d = 0 = pi (the reciprocity fold), where the first
-// and last phi_d bins meet; Nearest on the same walks jumps, which shows the check can fail.
-TEST(MerlBrdf, LinearIsContinuous) {
-    const std::string path = temp_folder().file("smooth.binary");
-    const int n_th = 16, n_td = 12, n_pd = 20;
-    // Smooth in every index and periodic in phi_d, but not symmetric about phi_d = pi/2, so
-    // clamping the phi_d ends instead of wrapping would show as a jump.
-    auto value = [&](int ith, int itd, int ipd) {
-        return 100.0 + 3.0 * ith + 2.0 * itd + 10.0 * std::cos(2 * kPi * (ipd + 0.5) / n_pd + 0.7);
-    };
-    npf::testing::write_merl(path, n_th, n_td, n_pd, [&](int ith, int itd, int ipd, double rgb[3]) {
-        for (int c = 0; c < 3; ++c) rgb[c] = value(ith, itd, ipd);
-    });
-    const auto linear = MerlBrdf::load(path, {MerlLookup::Linear});
-    const auto nearest = MerlBrdf::load(path);
-
-    // Walks in bin coordinates (uh, ud, up) from a start, along one axis, 1e-3 bins a step.
-    struct Walk {
-        double uh, ud, up;
-        int axis;
-        double length;
-    };
-    const Walk walks[] = {
-        {0.1, 2.3, 7.3, 0, 8.0},          // theta_h across several bins, from near the normal
-        {5.6, 0.1, 13.7, 1, 7.0},         // theta_d
-        {3.3, 4.4, n_pd - 2.0, 2, 4.0},   // phi_d through pi (wraps to 0)
-        {3.3, 4.4, -2.0, 2, 4.0},         // phi_d through 0 from negative angles
-    };
-    for (const Walk& walk : walks) {
-        double max_step_linear = 0, max_step_nearest = 0;
-        std::array<double, 3> previous_linear{}, previous_nearest{};
-        const int steps = static_cast<int>(walk.length / 1e-3);
-        for (int i = 0; i <= steps; ++i) {
-            double u[3] = {walk.uh, walk.ud, walk.up};
-            u[walk.axis] += i * 1e-3;
-            const DirectionPair p =
-                pair_from_half_diff(theta_h_at(u[0], n_th), 0.9, theta_d_at(u[1], n_td),
-                                    phi_d_at(u[2], n_pd));
-            ASSERT_GT(p.wo.z, 0.f);
-            ASSERT_GT(p.wi.z, 0.f);
-            const auto l = stored_numbers(*linear, p);
-            const auto n = stored_numbers(*nearest, p);
-            if (i > 0) {
-                max_step_linear = std::max(max_step_linear, std::fabs(l[0] - previous_linear[0]));
-                max_step_nearest =
-                    std::max(max_step_nearest, std::fabs(n[0] - previous_nearest[0]));
-            }
-            previous_linear = l;
-            previous_nearest = n;
-        }
-        // Largest slope: 3 per bin (theta_h) or 10 * 2 pi / 20 = 3.1 per bin (phi_d).
-        EXPECT_LT(max_step_linear, 0.01) << "walk along axis " << walk.axis;
-        EXPECT_GT(max_step_nearest, 0.5) << "walk along axis " << walk.axis;
-    }
-}
-
-// Negative stored numbers mark bins without a measurement: clamped to 0 by default, kept for
-// raw queries; Linear leaves them out of the blend while a valid bin has weight.
-TEST(MerlBrdf, InvalidBins) {
-    const std::string path = temp_folder().file("invalid.binary");
-    const int n_th = 6, n_td = 5, n_pd = 8;
-    npf::testing::write_merl(path, n_th, n_td, n_pd, [&](int, int itd, int, double rgb[3]) {
-        for (int c = 0; c < 3; ++c) rgb[c] = itd == n_td - 1 ? -1.0 : 100.0;
-    });
-    const auto nearest = MerlBrdf::load(path);
-    const auto linear = MerlBrdf::load(path, {MerlLookup::Linear});
-    auto detail = [](const npf::BrdfInfo& info, const std::string& key) {
-        for (const auto& kv : info.details)
-            if (kv.first == key) return kv.second;
-        return std::string("<missing>");
-    };
-    EXPECT_EQ(detail(nearest->info(), "invalid samples"), "48 of 240");
-
-    auto eval = [&](const MerlBrdf& brdf, double ud, bool clamp) {
-        const DirectionPair p = pair_from_half_diff(theta_h_at(0.5, n_th), 0.2,
-                                                    theta_d_at(ud, n_td), phi_d_at(3.5, n_pd));
-        EXPECT_GT(p.wo.z, 0.f);
-        float out[3];
-        brdf.eval_cos(p.wi, p.wo, rgb_query(clamp), out);
-        std::array<double, 3> fr{};
-        for (int c = 0; c < 3; ++c) fr[c] = out[c] / p.wo.z / kScale[c];
-        return fr;
-    };
-    // In the invalid bin.
-    for (int c = 0; c < 3; ++c) {
-        EXPECT_EQ(eval(*nearest, 4.5, true)[c], 0.0);
-        EXPECT_NEAR(eval(*nearest, 4.5, false)[c], -1.0, 1e-5);
-        EXPECT_NEAR(eval(*nearest, 3.5, false)[c], 100.0, 1e-4);
-        // Linear between a valid and the invalid centre: the valid value, not a blend with -1.
-        EXPECT_NEAR(eval(*linear, 4.2, false)[c], 100.0, 1e-4);
-        // Beyond the last centre only the invalid bin has weight.
-        EXPECT_NEAR(eval(*linear, 4.8, false)[c], -1.0, 1e-5);
-        EXPECT_EQ(eval(*linear, 4.8, true)[c], 0.0);
-    }
-}
-
-// (h) Also on a table with noisy, partly negative values.
-TEST(MerlBrdf, AlwaysFiniteWithInvalidBins) {
-    const std::string path = temp_folder().file("noisy.binary");
-    npf::testing::Pcg32 rng(37);
-    npf::testing::write_merl(path, 10, 8, 12, [&](int, int, int, double rgb[3]) {
-        for (int c = 0; c < 3; ++c)
-            rgb[c] = rng.next_float() < 0.2f ? -1.0 : 1000.0 * rng.next_float();
-    });
-    check_always_finite(*MerlBrdf::load(path), 41, 25000);
-    check_always_finite(*MerlBrdf::load(path, {MerlLookup::Linear}), 43, 25000);
-}
-
-// ---- Bad input -------------------------------------------------------------------------
-
-void expect_load_error(const std::string& path, const std::vector<std::string>& words) {
-    try {
-        MerlBrdf::load(path);
-        ADD_FAILURE() << "no error for " << path;
-    } catch (const npf::Error& e) {
-        const std::string what = e.what();
-        EXPECT_NE(what.find(path), std::string::npos) << what;
-        for (const std::string& word : words)
-            EXPECT_NE(what.find(word), std::string::npos) << "'" << word << "' not in: " << what;
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "not an npf::Error: " << e.what();
-    }
-}
-
-void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()),
-              static_cast<std::streamsize>(bytes.size()));
-}
-
-std::vector<std::uint8_t> read_bytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::vector<std::uint8_t> header_bytes(std::int32_t a, std::int32_t b, std::int32_t c) {
-    std::vector<std::uint8_t> bytes;
-    for (std::int32_t v : {a, b, c}) {
-        const auto u = static_cast<std::uint32_t>(v);
-        for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<std::uint8_t>(u >> (8 * i)));
-    }
-    return bytes;
-}
-
-TEST(MerlBrdf, MissingDirectoryEmpty) {
-    expect_load_error(temp_folder().file("does-not-exist.binary"), {"not found"});
-    const std::string folder = temp_folder().file("a-folder.binary");
-    fs::create_directories(folder);
-    expect_load_error(folder, {"directory"});
-    const std::string empty = temp_folder().file("empty.binary");
-    write_bytes(empty, {});
-    expect_load_error(empty, {"empty"});
-}
-
-TEST(MerlBrdf, TruncatedAndOversized) {
-    const std::string good = temp_folder().file("good.binary");
-    npf::testing::write_merl(good, 2, 3, 4,
-                    [](int, int, int, double rgb[3]) { rgb[0] = rgb[1] = rgb[2] = 1; });
-    std::vector<std::uint8_t> bytes = read_bytes(good);
-    ASSERT_EQ(bytes.size(), 12u + 2 * 3 * 4 * 3 * 8);
-    EXPECT_NO_THROW(MerlBrdf::load(good));
-
-    const std::string cut = temp_folder().file("cut.binary");
-    write_bytes(cut, std::vector<std::uint8_t>(bytes.begin(), bytes.end() - 5));
-    expect_load_error(cut, {"truncated", "2 x 3 x 4"});
-
-    const std::string short_header = temp_folder().file("short-header.binary");
-    write_bytes(short_header, std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + 7));
-    expect_load_error(short_header, {"truncated", "header"});
-
-    const std::string longer = temp_folder().file("longer.binary");
-    bytes.push_back(0);
-    write_bytes(longer, bytes);
-    expect_load_error(longer, {"size mismatch"});
-}
-
-TEST(MerlBrdf, BadDimensions) {
-    const std::string zero = temp_folder().file("zero-dim.binary");
-    write_bytes(zero, header_bytes(90, 0, 180));
-    expect_load_error(zero, {"dimensions", "positive"});
-
-    const std::string negative = temp_folder().file("negative-dim.binary");
-    std::vector<std::uint8_t> bytes = header_bytes(-1, -1, 1);
-    bytes.resize(12 + 3 * 8, 0);  // (-1)(-1)(1) = 1 bin would match this size
-    write_bytes(negative, bytes);
-    expect_load_error(negative, {"dimensions", "positive"});
-
-    const std::string huge = temp_folder().file("huge-dim.binary");
-    bytes = header_bytes(2147483647, 2147483647, 2147483647);
-    bytes.resize(64, 0);
-    write_bytes(huge, bytes);
-    expect_load_error(huge, {"dimensions", "too large"});
-}
-
-TEST(MerlBrdf, NonFiniteValues) {
-    const std::string nan_path = temp_folder().file("nan.binary");
-    npf::testing::write_merl(nan_path, 2, 3, 4, [](int ith, int itd, int ipd, double rgb[3]) {
-        rgb[0] = rgb[1] = rgb[2] = 1.0;
-        if (ith == 1 && itd == 2 && ipd == 3) rgb[1] = std::numeric_limits<double>::quiet_NaN();
-    });
-    expect_load_error(nan_path, {"non-finite", "channel G", "index 23"});
-
-    const std::string inf_path = temp_folder().file("inf.binary");
-    npf::testing::write_merl(inf_path, 2, 3, 4, [](int ith, int itd, int ipd, double rgb[3]) {
-        rgb[0] = rgb[1] = rgb[2] = 1.0;
-        if (ith == 0 && itd == 1 && ipd == 0) rgb[2] = -std::numeric_limits<double>::infinity();
-    });
-    expect_load_error(inf_path, {"non-finite", "channel B", "index 4"});
-
-    const std::string big_path = temp_folder().file("big.binary");
-    npf::testing::write_merl(big_path, 2, 3, 4, [](int ith, int, int, double rgb[3]) {
-        rgb[0] = rgb[1] = rgb[2] = ith == 1 ? 1e300 : 1.0;
-    });
-    expect_load_error(big_path, {"out-of-range", "channel R"});
 }
 
 }  // namespace

@@ -26,9 +26,7 @@
 
 namespace {
 
-using npf::NbrdfBrdf;
-using npf::Vec3;
-using npf::testing::error_of;
+using npf::NbrdfBrdf, npf::Vec3, npf::testing::error_of;
 
 constexpr double kPi = 3.14159265358979323846;
 

@@ -21,15 +21,24 @@ std::string negative_detail(const npf::Brdf& b) {
     return "(no such detail)";
 }
 
-TEST(NegativeValues, InfoCountsThemAndWeighsThem) {
+// A small synthetic file's fields with every stored RGB value made non-negative (the synthetic
+// lobe dips below 0 in places); `values` gets those values.
+std::vector<npf::testing::SyntheticField> non_negative_fields(std::vector<float>& values) {
     npf::testing::SyntheticRglSpec spec;
     spec.theta_count = 3;
     spec.data_size = 4;
     std::vector<npf::testing::SyntheticField> fields = npf::testing::synthetic_rgl_fields(spec);
     npf::testing::SyntheticField* rgb = npf::testing::find_field(fields, "rgb");
-    std::vector<float> v = rgb->floats();
-    for (float& x : v) x = std::fabs(x);  // the synthetic lobe dips below 0 in places
-    rgb->set_floats(v);
+    values = rgb->floats();
+    for (float& x : values) x = std::fabs(x);
+    rgb->set_floats(values);
+    return fields;
+}
+
+TEST(NegativeValues, InfoCountsThemAndWeighsThem) {
+    std::vector<float> v;
+    std::vector<npf::testing::SyntheticField> fields = non_negative_fields(v);
+    npf::testing::SyntheticField* rgb = npf::testing::find_field(fields, "rgb");
     const std::string dir = npf::testing::temporary_folder("negative-values");
     npf::testing::to_writer(fields).write(dir + "/clean.bsdf");
     EXPECT_EQ(negative_detail(*npf::RglBrdf::load(dir + "/clean.bsdf")), "none");
@@ -54,14 +63,9 @@ TEST(NegativeValues, InfoCountsThemAndWeighsThem) {
 // the two renders differ exactly when the file holds negative values.
 TEST(NegativeValues, RenderClampsThemUnlessRaw) {
     const std::string dir = npf::testing::temporary_folder("negative-render");
-    npf::testing::SyntheticRglSpec spec;
-    spec.theta_count = 3;
-    spec.data_size = 4;
-    std::vector<npf::testing::SyntheticField> fields = npf::testing::synthetic_rgl_fields(spec);
+    std::vector<float> v;
+    std::vector<npf::testing::SyntheticField> fields = non_negative_fields(v);
     npf::testing::SyntheticField* rgb = npf::testing::find_field(fields, "rgb");
-    std::vector<float> v = rgb->floats();
-    for (float& x : v) x = std::fabs(x);
-    rgb->set_floats(v);
     npf::testing::to_writer(fields).write(dir + "/clean.bsdf");
     for (std::size_t i = 0; i < v.size(); i += 3) v[i] = -v[i];  // a third of the values below 0
     rgb->set_floats(v);

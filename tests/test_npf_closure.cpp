@@ -33,16 +33,9 @@
 
 namespace {
 
-using npf::ClosureSample;
-using npf::NpfClosure;
-using npf::NpfFactors;
-using npf::NpfModel;
-using npf::Vec3;
-using npf::WavelengthRequest;
-using npf::testing::make_microfacet_factors;
-using npf::testing::make_test_factors;
-using npf::testing::MicrofacetSpec;
-using npf::testing::Pcg32;
+using npf::ClosureSample, npf::NpfClosure, npf::NpfFactors, npf::NpfModel, npf::Vec3, npf::WavelengthRequest,
+      npf::testing::make_microfacet_factors, npf::testing::make_test_factors, npf::testing::MicrofacetSpec,
+      npf::testing::Pcg32;
 
 const std::string& folder() {
     static const std::string dir = npf::testing::temporary_folder("npf-closure");

@@ -36,19 +36,10 @@
 
 namespace {
 
-using npf::NpfModel;
-using npf::Vec3;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::make_test_factors;
-using npf::testing::TestFactorSpec;
-using npf::testing::ToolRun;
-using npf::testing::RawPart;
-using npf::testing::read_raw;
-using npf::testing::write_raw;
-using npf::testing::find_raw;
-using npf::testing::set_value;
-using npf::testing::drop_channel;
+using npf::NpfModel, npf::Vec3, npf::testing::contains, npf::testing::describe,
+      npf::testing::make_test_factors, npf::testing::TestFactorSpec, npf::testing::ToolRun,
+      npf::testing::RawPart, npf::testing::read_raw, npf::testing::write_raw, npf::testing::find_raw,
+      npf::testing::set_value, npf::testing::drop_channel;
 
 const std::string& folder() {
     static const std::string dir = npf::testing::temporary_folder("npf-texture");

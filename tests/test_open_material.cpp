@@ -27,11 +27,8 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::lines_of;
-using npf::testing::run_tool;
-using npf::testing::ToolRun;
+using npf::testing::contains, npf::testing::describe, npf::testing::lines_of, npf::testing::run_tool,
+      npf::testing::ToolRun;
 
 const char* kRedPlastic = "configs/materials/red_plastic.yaml";
 const std::string kChannelForms = "(a channel list is rgb, a,b,c or start:end:count, in nm)";

@@ -20,11 +20,8 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::OwnedFolder;
-using npf::testing::contains;
-using npf::testing::error_of;
-using npf::testing::read_text;
-using npf::testing::write_text;
+using npf::OwnedFolder, npf::testing::contains, npf::testing::error_of, npf::testing::read_text,
+      npf::testing::write_text;
 
 struct Place {
     std::string dir = npf::testing::temporary_folder("owned-folder");

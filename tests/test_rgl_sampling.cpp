@@ -14,9 +14,7 @@
 
 namespace {
 
-using npf::Vec3;
-using npf::testing::Chi2Options;
-using npf::testing::Chi2Result;
+using npf::Vec3, npf::testing::Chi2Options, npf::testing::Chi2Result;
 
 // Incident directions: the normal, moderate and grazing elevations, at azimuths that land in
 // every quadrant (they exercise the folding of reduced anisotropic files).

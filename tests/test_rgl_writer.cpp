@@ -22,13 +22,8 @@
 
 namespace {
 
-using npf::AnalyticBrdf;
-using npf::AnalyticMaterial;
-using npf::Channels;
-using npf::RglBrdf;
-using npf::RglWriterOptions;
-using npf::Vec3;
-using npf::color::SampledSpectrum;
+using npf::AnalyticBrdf, npf::AnalyticMaterial, npf::Channels, npf::RglBrdf, npf::RglWriterOptions,
+      npf::Vec3, npf::color::SampledSpectrum;
 
 const std::string& folder() {
     static const std::string dir = npf::testing::temporary_folder("rgl-writer");
@@ -115,6 +110,12 @@ void expect_exact_at_nodes(const npf::Brdf& source, const std::string& path, con
     EXPECT_LT(worst, 1e-4) << path << ": worst relative error at the data nodes over " << compared << " values";
 }
 
+// A direction with cos(theta) uniform in [min_cos, 1] and phi uniform.
+Vec3 direction_above(std::mt19937& rng, float min_cos) {
+    std::uniform_real_distribution<float> uni(0.f, 1.f);
+    return npf::spherical_direction(std::acos(min_cos + (1.f - min_cos) * uni(rng)), 2.f * npf::kPi * uni(rng));
+}
+
 TEST(RglWriter, IsotropicSpectralIsExactAtNodes) {
     const AnalyticBrdf brdf(copper(0.25f, 0.25f));
     const Channels ch = Channels::spectral(brdf.material().wavelengths);
@@ -156,11 +157,10 @@ TEST(RglWriter, BetweenNodesErrorIsSmall) {
     const auto reader = RglBrdf::load(path);
     const npf::ChannelQuery rq = reader->query(Channels::rgb()), sq = brdf.query(Channels::rgb());
     std::mt19937 rng(5);
-    std::uniform_real_distribution<float> uni(0.f, 1.f);
     double sum_sq = 0.0, sum_ref = 0.0;
     for (int i = 0; i < 20000; ++i) {
-        const Vec3 wi = npf::spherical_direction(std::acos(0.2f + 0.8f * uni(rng)), 2.f * npf::kPi * uni(rng));
-        const Vec3 wo = npf::spherical_direction(std::acos(0.2f + 0.8f * uni(rng)), 2.f * npf::kPi * uni(rng));
+        const Vec3 wi = direction_above(rng, 0.2f);
+        const Vec3 wo = direction_above(rng, 0.2f);
         float a[3], b[3];
         reader->eval_cos(wi, wo, rq, a);
         brdf.eval_cos(wi, wo, sq, b);
@@ -196,11 +196,10 @@ TEST(RglWriter, RotatingTheFrameSwapsTheHighlightAxes) {
     // files do not map onto each other).
     auto turn = [](const Vec3& w) { return Vec3(-w.y, w.x, w.z); };
     std::mt19937 rng(9);
-    std::uniform_real_distribution<float> uni(0.f, 1.f);
     double diff = 0.0, ref = 0.0;
     for (int i = 0; i < 2000; ++i) {
-        const Vec3 p = npf::spherical_direction(std::acos(0.3f + 0.7f * uni(rng)), 2.f * npf::kPi * uni(rng));
-        const Vec3 o = npf::spherical_direction(std::acos(0.3f + 0.7f * uni(rng)), 2.f * npf::kPi * uni(rng));
+        const Vec3 p = direction_above(rng, 0.3f);
+        const Vec3 o = direction_above(rng, 0.3f);
         const double x = value(*a, p, o), y = value(*b, turn(p), turn(o));
         diff += (y - x) * (y - x);
         ref += x * x;

@@ -9,9 +9,7 @@
 
 namespace {
 
-using npf::HalfDiff;
-using npf::RusinkiewiczGrid;
-using npf::Vec3d;
+using npf::HalfDiff, npf::RusinkiewiczGrid, npf::Vec3d;
 
 Vec3d random_upper(std::mt19937& rng, double z_min = 1e-3) {
     std::uniform_real_distribution<double> uni(0.0, 1.0);

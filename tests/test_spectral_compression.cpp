@@ -17,13 +17,8 @@
 
 namespace {
 
-using npf::CompressionOptions;
-using npf::NpfFactors;
-using npf::NpfModel;
-using npf::SpectralBasis;
-using npf::Vec3;
-using npf::testing::make_test_factors;
-using npf::testing::TestFactorSpec;
+using npf::CompressionOptions, npf::NpfFactors, npf::NpfModel, npf::SpectralBasis, npf::Vec3,
+      npf::testing::make_test_factors, npf::testing::TestFactorSpec;
 
 std::vector<TestFactorSpec> all_kinds() {
     return {{false, 3, false, 1}, {true, 3, false, 2}, {false, 20, true, 3}, {true, 20, true, 4}};

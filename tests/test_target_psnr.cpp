@@ -5,6 +5,7 @@
 // each conversion to a second or two.
 #include "run_tool.h"
 #include "synthetic_rgl.h"
+#include "target_ladder.h"
 
 #include <npf/batch/config.h>
 #include <npf/converter/convert.h>
@@ -26,47 +27,16 @@
 
 namespace {
 
-using npf::ConvertReport;
-using npf::ConvertSettings;
-using npf::DetailGrid;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::ToolRun;
-
-// An RGB source (a spectral one renders at its wavelengths, many times slower): a small
-// synthetic RGL file, a peaked lobe over a diffuse floor.
-const std::string& source_path() {
-    static const std::string path = npf::testing::write_synthetic_rgl(
-        npf::testing::SyntheticRglSpec{}, npf::testing::temporary_folder("target-psnr-source") + "/lobe.bsdf");
-    return path;
-}
-
-const npf::Brdf& lobe() {
-    static const std::unique_ptr<npf::RglBrdf> source = npf::RglBrdf::load(source_path());
-    return *source;
-}
+using npf::testing::metadata_value, npf::testing::synthetic_lobe, npf::testing::synthetic_lobe_path;
+using npf::ConvertReport, npf::ConvertSettings, npf::DetailGrid, npf::testing::contains,
+      npf::testing::describe, npf::testing::ToolRun;
 
 // A quick RGB fit: a coarse base (so that the detail layer has something to add) and a short ladder.
 ConvertSettings small_settings() {
-    ConvertSettings s = npf::preset_settings(npf::ConvertPreset::Production, true);
-    s.fit.grid = {16, 1, 12, 24};
-    s.fit.g_theta = 12;
-    s.fit.max_iterations = 30;
-    s.fit.threads = 2;
+    ConvertSettings s = npf::testing::small_ladder_settings();
     s.error_pairs = 1000;
     s.detail.grid = DetailGrid{8, 4, 8};
-    s.target_ladder = {DetailGrid{8, 4, 8}, DetailGrid{16, 8, 16}};
-    s.prediction.threads = 2;
-    // A quarter of the default render (the ladder predicts every candidate).
-    s.prediction.size = 64;
-    s.prediction.spp = 16;
     return s;
-}
-
-std::string meta(const npf::NpfModel& m, const std::string& key) {
-    for (const auto& [k, v] : m.metadata)
-        if (k == key) return v;
-    return "(absent)";
 }
 
 std::uintmax_t bytes(const std::string& path) { return std::filesystem::file_size(path); }
@@ -81,7 +51,7 @@ TEST(TargetPsnr, PredictionMatchesAFullSizePairedRender) {
     ConvertSettings s = small_settings();
     s.prediction = npf::PsnrPredictionOptions{};  // the default render
     s.prediction.threads = 2;
-    const ConvertReport r = npf::convert_material(lobe(), out, s);
+    const ConvertReport r = npf::convert_material(synthetic_lobe(), out, s);
     ASSERT_TRUE(r.predicted);
     ASSERT_TRUE(std::isfinite(r.prediction.psnr));
     EXPECT_GT(r.prediction.floor_psnr, r.prediction.psnr);
@@ -98,7 +68,7 @@ TEST(TargetPsnr, PredictionMatchesAFullSizePairedRender) {
     o.threads = 2;
     o.sampling = npf::render::Sampling::Environment;
     const npf::NpfBrdf written(out);
-    const npf::render::ImageMetrics full = npf::render::compare_images(npf::render::render(lobe(), env, o).image,
+    const npf::render::ImageMetrics full = npf::render::compare_images(npf::render::render(synthetic_lobe(), env, o).image,
                                                                        npf::render::render(written, env, o).image);
     EXPECT_NEAR(studio.psnr, full.psnr, 1.0) << "prediction " << r.prediction_settings;
     EXPECT_LE(r.prediction.psnr, studio.psnr);
@@ -111,34 +81,34 @@ TEST(TargetPsnr, LadderPicksTheSmallestThatMeetsTheTarget) {
     ConvertSettings s = small_settings();
 
     s.target_psnr = 200.0;  // unreachable
-    const ConvertReport best = npf::convert_material(lobe(), dir + "/best.exr", s);
+    const ConvertReport best = npf::convert_material(synthetic_lobe(), dir + "/best.exr", s);
     ASSERT_EQ(best.target_candidates.size(), 3u);
     EXPECT_FALSE(best.target_met);
     double highest = 0.0;
     for (const ConvertReport::TargetCandidate& c : best.target_candidates) highest = std::max(highest, c.psnr);
     EXPECT_EQ(best.prediction.psnr, highest);
     const npf::NpfModel best_file = npf::read_npf_texture(dir + "/best.exr");
-    EXPECT_EQ(meta(best_file, "target_psnr_met"), "false");
-    EXPECT_EQ(meta(best_file, "target_psnr"), "200");
+    EXPECT_EQ(metadata_value(best_file, "target_psnr_met"), "false");
+    EXPECT_EQ(metadata_value(best_file, "target_psnr"), "200");
     const double base_psnr = best.target_candidates[0].psnr;
     ASSERT_GT(highest, base_psnr + 1.0) << "the detail layer should add to a coarse base";
 
     s.target_psnr = base_psnr - 0.5;
-    const ConvertReport low = npf::convert_material(lobe(), dir + "/low.exr", s);
+    const ConvertReport low = npf::convert_material(synthetic_lobe(), dir + "/low.exr", s);
     EXPECT_TRUE(low.target_met);
     EXPECT_FALSE(low.has_detail);
     EXPECT_EQ(low.target_candidates.size(), 1u);
     EXPECT_GE(low.prediction.psnr, s.target_psnr);
 
     s.target_psnr = highest - 0.01;
-    const ConvertReport high = npf::convert_material(lobe(), dir + "/high.exr", s);
+    const ConvertReport high = npf::convert_material(synthetic_lobe(), dir + "/high.exr", s);
     EXPECT_TRUE(high.target_met);
     EXPECT_TRUE(high.has_detail);
     EXPECT_GE(high.prediction.psnr, s.target_psnr);
     EXPECT_LT(bytes(dir + "/low.exr"), bytes(dir + "/high.exr"));
     const npf::NpfModel high_file = npf::read_npf_texture(dir + "/high.exr");
-    EXPECT_EQ(meta(high_file, "target_psnr_met"), "true");
-    EXPECT_NEAR(std::stod(meta(high_file, "target_psnr_reached")), high.prediction.psnr, 1e-4 * high.prediction.psnr);
+    EXPECT_EQ(metadata_value(high_file, "target_psnr_met"), "true");
+    EXPECT_NEAR(std::stod(metadata_value(high_file, "target_psnr_reached")), high.prediction.psnr, 1e-4 * high.prediction.psnr);
 }
 
 TEST(TargetPsnr, RejectsBadTargets) {
@@ -151,14 +121,14 @@ TEST(TargetPsnr, RejectsBadTargets) {
     ConvertSettings s = small_settings();
     s.target_psnr = -1.0;
     const std::string dir = npf::testing::temporary_folder("target-psnr");
-    EXPECT_THROW(npf::convert_material(lobe(), dir + "/bad.exr", s), npf::Error);
+    EXPECT_THROW(npf::convert_material(synthetic_lobe(), dir + "/bad.exr", s), npf::Error);
     EXPECT_FALSE(std::filesystem::exists(dir + "/bad.exr"));
 }
 
 // The batch key takes the flag's rule (one check, parse_target_psnr) and reaches the settings.
 TEST(TargetPsnr, BatchKey) {
     const std::string dir = npf::testing::temporary_folder("target-psnr");
-    const std::string head = "output_dir: out\ninputs: [" + source_path() + "]\ndefaults:\n  target_psnr: ";
+    const std::string head = "output_dir: out\ninputs: [" + synthetic_lobe_path() + "]\ndefaults:\n  target_psnr: ";
     const npf::batch::BatchConfig c = npf::batch::parse_batch_config(head + "45\n", "b.yaml", dir);
     ASSERT_EQ(c.materials.size(), 1u);
     EXPECT_EQ(npf::batch::resolve_convert_settings(c.materials[0].settings, true).target_psnr, 45.0);
@@ -178,7 +148,7 @@ const std::vector<std::string> kSmallFlags = {"--grid", "16,1,12,24", "--g-grid"
                                               "--threads", "2", "--quiet", "--error-pairs", "1000"};
 
 ToolRun convert(const std::string& out, std::vector<std::string> extra) {
-    std::vector<std::string> args = {"convert", source_path(), "-o", out};
+    std::vector<std::string> args = {"convert", synthetic_lobe_path(), "-o", out};
     args.insert(args.end(), kSmallFlags.begin(), kSmallFlags.end());
     args.insert(args.end(), extra.begin(), extra.end());
     return npf::testing::run_tool(args);
@@ -224,16 +194,16 @@ TEST(TargetPsnrCli, SummaryAndMetadata) {
     for (const char* key : {"predicted_psnr", "predicted_psnr_floor", "predicted_psnr_render", "energy_error",
                             "energy_error_view_theta", "energy_error_views", "target_psnr", "target_psnr_met",
                             "target_psnr_reached", "target_psnr_candidates"}) {
-        EXPECT_NE(meta(m, key), "(absent)") << key;
+        EXPECT_NE(metadata_value(m, key), "(absent)") << key;
     }
-    EXPECT_EQ(meta(m, "target_psnr_met"), "true");
+    EXPECT_EQ(metadata_value(m, "target_psnr_met"), "true");
 
     const ToolRun quick = convert(dir + "/q.exr", {"--no-predict", "--detail", "8,4,8"});
     ASSERT_EQ(quick.status, 0) << describe(quick);
     EXPECT_FALSE(contains(quick.out, "predicted")) << quick.out;
     const npf::NpfModel q = npf::read_npf_texture(dir + "/q.exr");
-    EXPECT_EQ(meta(q, "predicted_psnr"), "(absent)");
-    EXPECT_NE(meta(q, "energy_error"), "(absent)");
+    EXPECT_EQ(metadata_value(q, "predicted_psnr"), "(absent)");
+    EXPECT_NE(metadata_value(q, "energy_error"), "(absent)");
 }
 
 // A target nothing reaches: status 0, one warning line, the file marked.
@@ -245,8 +215,8 @@ TEST(TargetPsnrCli, UnreachableTargetWarnsAndMarksTheFile) {
     ASSERT_EQ(npf::testing::lines_of(r.err).size(), 1u) << r.err;
     EXPECT_TRUE(contains(r.err, "warning: target 200.00 dB not reached")) << r.err;
     const npf::NpfModel m = npf::read_npf_texture(dir + "/u.exr");
-    EXPECT_EQ(meta(m, "target_psnr_met"), "false");
-    EXPECT_TRUE(contains(meta(m, "target_psnr_candidates"), "16x8x16:")) << meta(m, "target_psnr_candidates");
+    EXPECT_EQ(metadata_value(m, "target_psnr_met"), "false");
+    EXPECT_TRUE(contains(metadata_value(m, "target_psnr_candidates"), "16x8x16:")) << metadata_value(m, "target_psnr_candidates");
 }
 
 }  // namespace

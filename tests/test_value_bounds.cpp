@@ -32,12 +32,8 @@
 
 namespace {
 
-using npf::testing::contains;
-using npf::testing::error_of;
-using npf::testing::describe;
-using npf::testing::RawPart;
-using npf::testing::run_tool;
-using npf::testing::ToolRun;
+using npf::testing::contains, npf::testing::error_of, npf::testing::describe, npf::testing::RawPart,
+      npf::testing::run_tool, npf::testing::ToolRun;
 
 const std::string& folder() {
     static const std::string dir = npf::testing::temporary_folder("value-bounds");

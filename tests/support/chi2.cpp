@@ -155,12 +155,9 @@ std::string describe_cell(const Grid& g, int index, double observed, double expe
     return buf;
 }
 
-}  // namespace
 
-Chi2Result run_chi2_test(const Brdf& brdf, const Vec3& wi, const Chi2Options& opt) {
-    Chi2Result r;
-    std::vector<std::string> problems;
-
+// The cells: cos(theta) rows (both hemispheres with opt.full_sphere) by phi columns.
+Grid make_grid(const Chi2Options& opt) {
     Grid g;
     g.cols = std::max(1, opt.phi_bins);
     g.hemi_rows = std::max(1, opt.cos_theta_bins);
@@ -169,14 +166,12 @@ Chi2Result run_chi2_test(const Brdf& brdf, const Vec3& wi, const Chi2Options& op
     g.z_min = opt.full_sphere ? -1.0 : 0.0;
     g.dz = 1.0 / g.hemi_rows;
     g.dphi = kTwoPi / g.cols;
-    const int cells = g.rows * g.cols;
-    r.rows = g.rows;
-    r.cols = g.cols;
-    r.observed.assign(cells, 0.0);
-    r.expected.assign(cells, 0.0);
-    r.sample_count = opt.sample_count;
-    r.threshold = opt.significance / std::max(1, opt.trials);
+    return g;
+}
 
+// Draws opt.sample_count samples into r.observed and counts failed, invalid and below-horizon
+// ones; every so often compares the sample's pdf with pdf(wi, wo).
+void count_samples(const Brdf& brdf, const Vec3& wi, const Chi2Options& opt, const Grid& g, Chi2Result& r) {
     // -- Observed counts. --
     ChannelQuery empty_query;
     const ChannelQuery& query = opt.query ? *opt.query : empty_query;
@@ -220,7 +215,9 @@ Chi2Result run_chi2_test(const Brdf& brdf, const Vec3& wi, const Chi2Options& op
             if (!(rel <= opt.pdf_rel_tolerance)) ++r.pdf_mismatches;
         }
     }
+}
 
+void integrate_expected(const Brdf& brdf, const Vec3& wi, const Chi2Options& opt, const Grid& g, Chi2Result& r) {
     // -- Expected counts: the pdf integrated over each cell. --
     // Integrated in (s, phi) with z = cos(theta) = 1 - s^2, d(omega) = 2 s ds dphi: uniform
     // steps in s resolve the pole (where measured pdfs have an integrable 1/theta spike at
@@ -276,7 +273,11 @@ Chi2Result run_chi2_test(const Brdf& brdf, const Vec3& wi, const Chi2Options& op
             r.expected[row * g.cols + col] = mass * static_cast<double>(opt.sample_count);
         }
     }
+}
 
+// The problems the histogram alone would miss: non-finite or below-horizon pdf, invalid
+// samples, a failure rate that disagrees with the pdf's missing mass, pdf mismatches.
+void check_sanity(const Chi2Options& opt, Chi2Result& r, std::vector<std::string>& problems) {
     // -- Sanity checks the histogram alone would miss. --
     if (!std::isfinite(r.pdf_integral)) problems.push_back("pdf() returned non-finite values");
     if (r.pdf_integral_below_horizon > 0.0)
@@ -314,7 +315,11 @@ Chi2Result run_chi2_test(const Brdf& brdf, const Vec3& wi, const Chi2Options& op
                            std::to_string(r.pdf_checked) +
                            " checked samples have s.pdf != pdf(wi, s.wo) (worst relative "
                            "error " + format_double(r.worst_pdf_rel_error) + ")");
+}
 
+// The statistic over the cells (r.statistic, r.dof, r.pooled_cells); returns the cells that
+// hold samples where pdf() says none can be.
+std::vector<int> chi2_statistic(const Chi2Options& opt, Chi2Result& r, int cells) {
     // -- Chi-square statistic with pooling. Cells in ascending order of expected count:
     // those below min_expected go into one pool, and while the pool itself is still below
     // min_expected the next cells join it, so it ends up a valid cell of its own. --
@@ -346,7 +351,12 @@ Chi2Result run_chi2_test(const Brdf& brdf, const Vec3& wi, const Chi2Options& op
         ++terms;
     }
     r.dof = terms - 1;
+    return impossible;
+}
 
+// The verdict on the histogram: no impossible samples, enough usable cells, a p-value above
+// the threshold.
+void judge_histogram(Chi2Result& r, const std::vector<int>& impossible, std::vector<std::string>& problems) {
     if (!impossible.empty()) {
         double total = 0.0;
         for (int idx : impossible) total += r.observed[idx];
@@ -366,9 +376,11 @@ Chi2Result run_chi2_test(const Brdf& brdf, const Vec3& wi, const Chi2Options& op
             problems.push_back("chi-square rejects the sampler: p-value " +
                                format_double(r.p_value) + " < " + format_double(r.threshold));
     }
+}
 
-    r.passed = problems.empty();
-
+std::string report(const Chi2Options& opt, const Grid& g, const Chi2Result& r, const std::vector<int>& impossible,
+                   const std::vector<std::string>& problems) {
+    const int cells = g.rows * g.cols;
     // -- The report. --
     std::ostringstream msg;
     msg << "chi2 = " << format_double(r.statistic, 6) << ", dof = " << r.dof
@@ -402,7 +414,30 @@ Chi2Result run_chi2_test(const Brdf& brdf, const Vec3& wi, const Chi2Options& op
             msg << "\n    " << describe_cell(g, idx, r.observed[idx], r.expected[idx]);
         }
     }
-    r.message = msg.str();
+    return msg.str();
+}
+
+}  // namespace
+
+Chi2Result run_chi2_test(const Brdf& brdf, const Vec3& wi, const Chi2Options& opt) {
+    Chi2Result r;
+    std::vector<std::string> problems;
+    const Grid g = make_grid(opt);
+    const int cells = g.rows * g.cols;
+    r.rows = g.rows;
+    r.cols = g.cols;
+    r.observed.assign(cells, 0.0);
+    r.expected.assign(cells, 0.0);
+    r.sample_count = opt.sample_count;
+    r.threshold = opt.significance / std::max(1, opt.trials);
+
+    count_samples(brdf, wi, opt, g, r);
+    integrate_expected(brdf, wi, opt, g, r);
+    check_sanity(opt, r, problems);
+    const std::vector<int> impossible = chi2_statistic(opt, r, cells);
+    judge_histogram(r, impossible, problems);
+    r.passed = problems.empty();
+    r.message = report(opt, g, r, impossible, problems);
     return r;
 }
 

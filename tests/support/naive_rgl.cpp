@@ -19,6 +19,19 @@ double lerp(double a, double b, double t) { return a + (b - a) * t; }
 
 double clamp01(double v) { return std::min(1.0, std::max(0.0, v)); }
 
+// The cell (column c, row r) of a W x H node grid that holds (ux, uy), clamped to [0, 1], and
+// the position (s, t) in it.
+struct GridCell {
+    std::size_t c, r;
+    double s, t;
+};
+GridCell grid_cell(double ux, double uy, std::size_t W, std::size_t H) {
+    const double gx = clamp01(ux) * static_cast<double>(W - 1), gy = clamp01(uy) * static_cast<double>(H - 1);
+    const std::size_t c = std::min(static_cast<std::size_t>(std::floor(gx)), W - 2);
+    const std::size_t r = std::min(static_cast<std::size_t>(std::floor(gy)), H - 2);
+    return {c, r, gx - static_cast<double>(c), gy - static_cast<double>(r)};
+}
+
 // Sec. 3.4: tau in [0, 1] with a*tau + (b - a)*tau^2/2 = y. `error` models float32
 // cancellation in the quadratic branch (NaivePerturbation::ramp).
 double ramp(double a, double b, double y, double error) {
@@ -168,12 +181,7 @@ double NaivePl2d::blend(const std::vector<Corner>& cs, const std::vector<double>
 double NaivePl2d::eval(double ux, double uy, const std::vector<double>& params) const {
     const auto cs = corners(params);
     const std::size_t W = m_width, H = m_height;
-    ux = clamp01(ux);
-    uy = clamp01(uy);
-    const double gx = ux * static_cast<double>(W - 1), gy = uy * static_cast<double>(H - 1);
-    const std::size_t c = std::min(static_cast<std::size_t>(std::floor(gx)), W - 2);
-    const std::size_t r = std::min(static_cast<std::size_t>(std::floor(gy)), H - 2);
-    const double s = gx - static_cast<double>(c), t = gy - static_cast<double>(r);
+    const auto [c, r, s, t] = grid_cell(ux, uy, W, H);
     auto v = [&](std::size_t rr, std::size_t cc) { return blend(cs, m_data, H * W, rr * W + cc); };
     return lerp(lerp(v(r, c), v(r, c + 1), s), lerp(v(r + 1, c), v(r + 1, c + 1), s), t);
 }
@@ -218,12 +226,7 @@ void NaivePl2d::invert(double ux, double uy, const std::vector<double>& params, 
     const std::size_t W = m_width, H = m_height;
     const double dx = 1.0 / static_cast<double>(W - 1);
     const double dy = 1.0 / static_cast<double>(H - 1);
-    ux = clamp01(ux);
-    uy = clamp01(uy);
-    const double gx = ux * static_cast<double>(W - 1), gy = uy * static_cast<double>(H - 1);
-    const std::size_t c = std::min(static_cast<std::size_t>(std::floor(gx)), W - 2);
-    const std::size_t r = std::min(static_cast<std::size_t>(std::floor(gy)), H - 2);
-    const double s = gx - static_cast<double>(c), t = gy - static_cast<double>(r);
+    const auto [c, r, s, t] = grid_cell(ux, uy, W, H);
 
     auto M = [&](std::size_t rr) { return blend(cs, m_marginal, H, rr); };
     auto Rw = [&](std::size_t rr) { return blend(cs, m_row_int, H, rr); };

@@ -106,20 +106,22 @@ void SyntheticField::set_floats(const std::vector<float>& v) {
     if (!v.empty()) std::memcpy(bytes.data(), v.data(), bytes.size());
 }
 
-std::vector<SyntheticField> synthetic_rgl_fields(const SyntheticRglSpec& spec) {
-    check_spec(spec);
-    const bool isotropic = spec.phi_count <= 2;
-    const int nP = spec.phi_count, nT = spec.theta_count;
-    const int V = spec.vndf_size, S = spec.data_size;
-    const int ndf_rows = isotropic ? 2 : spec.ndf_size, ndf_cols = spec.ndf_size;
-    const double ax = spec.alpha_x, ay = spec.alpha_y;
-    // An isotropic file needs an azimuth-independent NDF.
-    const double iso_alpha = 0.5 * (ax + ay);
-    const double dax = isotropic ? iso_alpha : ax, day = isotropic ? iso_alpha : ay;
+namespace {
 
-    // Incident grids. Anisotropic: -pi .. -pi + 2 pi / reduction inclusive, the interval that
-    // folded queries land in (docs/rgl-format.md sec. 7).
-    std::vector<float> phi_i;
+// The tables of a synthetic file, before they become fields.
+struct SyntheticTables {
+    bool isotropic = false;
+    int nP = 0, nT = 0, V = 0, S = 0, ndf_rows = 0, ndf_cols = 0;
+    double dax = 0.0, day = 0.0;  // the NDF's widths (their mean for an isotropic file)
+    std::vector<float> phi_i, theta_i, ndf, sigma, vndf, data, lum;
+};
+
+// Incident grids. Anisotropic: -pi .. -pi + 2 pi / reduction inclusive, the interval that
+// folded queries land in (docs/rgl-format.md sec. 7).
+void fill_incident_grids(const SyntheticRglSpec& spec, SyntheticTables& t) {
+    const int nP = t.nP, nT = t.nT;
+    std::vector<float>& phi_i = t.phi_i;
+    std::vector<float>& theta_i = t.theta_i;
     if (nP == 1) {
         phi_i = {0.f};
     } else if (nP == 2) {
@@ -128,11 +130,17 @@ std::vector<SyntheticField> synthetic_rgl_fields(const SyntheticRglSpec& spec) {
         const double span = 2.0 * kPi / double(spec.reduction);
         for (int k = 0; k < nP; ++k) phi_i.push_back(float(-kPi + span * node(k, nP)));
     }
-    std::vector<float> theta_i;
     for (int l = 0; l < nT; ++l) theta_i.push_back(float(0.5 * kPi * node(l, nT)));
+}
 
+void fill_ndf(SyntheticTables& t) {
+    const int ndf_rows = t.ndf_rows, ndf_cols = t.ndf_cols;
+    const double dax = t.dax, day = t.day;
     // ndf and sigma in u-space: rows u_phi, columns u_theta.
-    std::vector<float> ndf(std::size_t(ndf_rows) * ndf_cols), sigma(ndf.size());
+    std::vector<float>& ndf = t.ndf;
+    std::vector<float>& sigma = t.sigma;
+    ndf.assign(std::size_t(ndf_rows) * ndf_cols, 0.f);
+    sigma.assign(ndf.size(), 0.f);
     for (int r = 0; r < ndf_rows; ++r) {
         const double phi = (2.0 * node(r, ndf_rows) - 1.0) * kPi;
         for (int c = 0; c < ndf_cols; ++c) {
@@ -141,11 +149,19 @@ std::vector<SyntheticField> synthetic_rgl_fields(const SyntheticRglSpec& spec) {
             sigma[std::size_t(r) * ndf_cols + c] = float(ggx_sigma(theta, phi, dax, day));
         }
     }
+}
 
+void fill_vndf(SyntheticTables& t) {
+    const int nP = t.nP, nT = t.nT, V = t.V;
+    const bool isotropic = t.isotropic;
+    const double dax = t.dax, day = t.day;
+    const std::vector<float>& phi_i = t.phi_i;
+    const std::vector<float>& theta_i = t.theta_i;
     // vndf per incident slice (W4 of the format notes): max(0, wi.m) D(m) / sigma(wi) times the
     // u-space Jacobian 2 pi^2 u sin(theta_m), plus a tiny floor so no slice is all zero.
     const std::size_t vplane = std::size_t(V) * V;
-    std::vector<float> vndf(std::size_t(nP) * nT * vplane);
+    std::vector<float>& vndf = t.vndf;
+    vndf.assign(std::size_t(nP) * nT * vplane, 0.f);
     for (int k = 0; k < nP; ++k) {
         for (int l = 0; l < nT; ++l) {
             const Dir wi = direction(theta_i[std::size_t(l)], phi_i[std::size_t(k)]);
@@ -169,81 +185,118 @@ std::vector<SyntheticField> synthetic_rgl_fields(const SyntheticRglSpec& spec) {
             for (std::size_t i = 0; i < vplane; ++i) slice[i] += floor;
         }
     }
+}
 
-    // Data: a smooth positive pattern varying with channel, node and incident slice, with a
-    // diffuse floor; RGB blue dips below zero around xi = (0.3, 0.5) (out-of-gamut values).
+// One incident slice's data planes, channel by channel.
+void fill_data_slice(const SyntheticRglSpec& spec, int S, std::size_t nC, std::size_t base, double slice_factor,
+                     std::vector<float>& data) {
+    const std::size_t dplane = std::size_t(S) * S;
+    const double rgb_scale[3] = {0.8, 0.5, 0.3};
+    for (std::size_t ch = 0; ch < nC; ++ch) {
+        double scale, wiggle;
+        if (spec.spectral) {
+            const double lambda = spec.wavelengths[ch];
+            scale = 0.25 + 0.6 * std::clamp((lambda - 350.0) / 400.0, 0.0, 1.0);
+            wiggle = 0.15 * std::sin(lambda / 47.0);
+        } else {
+            scale = rgb_scale[ch];
+            wiggle = 0.1 * double(ch);
+        }
+        float* plane = data.data() + (base * nC + ch) * dplane;
+        for (int r = 0; r < S; ++r) {
+            const double y = node(r, S);
+            for (int c = 0; c < S; ++c) {
+                const double x = node(c, S);
+                double v = 0.1 + 0.55 * (1.0 - 0.5 * x) + 0.2 * std::cos(2.0 * kPi * y + wiggle) * (1.0 - x) +
+                           wiggle * x * y;
+                v *= scale * slice_factor;
+                if (!spec.spectral && ch == 2) {
+                    const double d = std::hypot(x - 0.3, y - 0.5);
+                    v -= 1.6 * scale * std::max(0.0, 1.0 - d / 0.3);
+                }
+                plane[std::size_t(r) * S + c] = float(v);
+            }
+        }
+    }
+}
+
+// One incident slice's luminance plane from its data.
+void fill_luminance_slice(const SyntheticRglSpec& spec, std::size_t nC, std::size_t dplane, std::size_t base,
+                          const std::vector<float>& data, std::vector<float>& lum) {
+    // Luminance of the data, floored so that it stays a positive density.
+    float* lplane = lum.data() + base * dplane;
+    const float* d0 = data.data() + base * nC * dplane;
+    float peak = 0.f;
+    for (std::size_t i = 0; i < dplane; ++i) {
+        double y;
+        if (spec.spectral) {
+            y = 0.0;
+            for (std::size_t ch = 0; ch < nC; ++ch) y += d0[ch * dplane + i];
+            y /= double(nC);
+        } else {
+            y = npf::rec709_luminance(d0[i], d0[dplane + i], d0[2 * dplane + i]);
+        }
+        lplane[i] = float(y);
+        peak = std::max(peak, lplane[i]);
+    }
+    const float floor = std::max(1e-3f * peak, 1e-6f);
+    for (std::size_t i = 0; i < dplane; ++i) lplane[i] = std::max(lplane[i], floor);
+}
+
+// Data: a smooth positive pattern varying with channel, node and incident slice, with a
+// diffuse floor; RGB blue dips below zero around xi = (0.3, 0.5) (out-of-gamut values).
+void fill_data(const SyntheticRglSpec& spec, SyntheticTables& t) {
+    const int nP = t.nP, nT = t.nT, S = t.S;
     const std::size_t nC = spec.spectral ? spec.wavelengths.size() : 3;
     const std::size_t dplane = std::size_t(S) * S;
-    std::vector<float> data(std::size_t(nP) * nT * nC * dplane);
-    std::vector<float> lum(std::size_t(nP) * nT * dplane);
-    const double rgb_scale[3] = {0.8, 0.5, 0.3};
+    t.data.assign(std::size_t(nP) * nT * nC * dplane, 0.f);
+    t.lum.assign(std::size_t(nP) * nT * dplane, 0.f);
     for (int k = 0; k < nP; ++k) {
         for (int l = 0; l < nT; ++l) {
             double slice_factor = 1.0 - 0.3 * node(l, nT);
-            if (!isotropic) slice_factor += 0.1 * std::cos(double(phi_i[std::size_t(k)]));
+            if (!t.isotropic) slice_factor += 0.1 * std::cos(double(t.phi_i[std::size_t(k)]));
             const std::size_t base = (std::size_t(k) * nT + l);
-            for (std::size_t ch = 0; ch < nC; ++ch) {
-                double scale, wiggle;
-                if (spec.spectral) {
-                    const double lambda = spec.wavelengths[ch];
-                    scale = 0.25 + 0.6 * std::clamp((lambda - 350.0) / 400.0, 0.0, 1.0);
-                    wiggle = 0.15 * std::sin(lambda / 47.0);
-                } else {
-                    scale = rgb_scale[ch];
-                    wiggle = 0.1 * double(ch);
-                }
-                float* plane = data.data() + (base * nC + ch) * dplane;
-                for (int r = 0; r < S; ++r) {
-                    const double y = node(r, S);
-                    for (int c = 0; c < S; ++c) {
-                        const double x = node(c, S);
-                        double v = 0.1 + 0.55 * (1.0 - 0.5 * x) + 0.2 * std::cos(2.0 * kPi * y + wiggle) * (1.0 - x) +
-                                   wiggle * x * y;
-                        v *= scale * slice_factor;
-                        if (!spec.spectral && ch == 2) {
-                            const double d = std::hypot(x - 0.3, y - 0.5);
-                            v -= 1.6 * scale * std::max(0.0, 1.0 - d / 0.3);
-                        }
-                        plane[std::size_t(r) * S + c] = float(v);
-                    }
-                }
-            }
-            // Luminance of the data, floored so that it stays a positive density.
-            float* lplane = lum.data() + base * dplane;
-            const float* d0 = data.data() + base * nC * dplane;
-            float peak = 0.f;
-            for (std::size_t i = 0; i < dplane; ++i) {
-                double y;
-                if (spec.spectral) {
-                    y = 0.0;
-                    for (std::size_t ch = 0; ch < nC; ++ch) y += d0[ch * dplane + i];
-                    y /= double(nC);
-                } else {
-                    y = npf::rec709_luminance(d0[i], d0[dplane + i], d0[2 * dplane + i]);
-                }
-                lplane[i] = float(y);
-                peak = std::max(peak, lplane[i]);
-            }
-            const float floor = std::max(1e-3f * peak, 1e-6f);
-            for (std::size_t i = 0; i < dplane; ++i) lplane[i] = std::max(lplane[i], floor);
+            fill_data_slice(spec, S, nC, base, slice_factor, t.data);
+            fill_luminance_slice(spec, nC, dplane, base, t.data, t.lum);
         }
     }
+}
 
+}  // namespace
+
+std::vector<SyntheticField> synthetic_rgl_fields(const SyntheticRglSpec& spec) {
+    check_spec(spec);
+    SyntheticTables t;
+    t.isotropic = spec.phi_count <= 2;
+    t.nP = spec.phi_count, t.nT = spec.theta_count;
+    t.V = spec.vndf_size, t.S = spec.data_size;
+    t.ndf_rows = t.isotropic ? 2 : spec.ndf_size, t.ndf_cols = spec.ndf_size;
+    const double ax = spec.alpha_x, ay = spec.alpha_y;
+    // An isotropic file needs an azimuth-independent NDF.
+    const double iso_alpha = 0.5 * (ax + ay);
+    t.dax = t.isotropic ? iso_alpha : ax, t.day = t.isotropic ? iso_alpha : ay;
+    fill_incident_grids(spec, t);
+    fill_ndf(t);
+    fill_vndf(t);
+    fill_data(spec, t);
+
+    const int nP = t.nP, nT = t.nT, V = t.V, S = t.S, ndf_rows = t.ndf_rows, ndf_cols = t.ndf_cols;
+    const std::size_t nC = spec.spectral ? spec.wavelengths.size() : 3;
     std::vector<SyntheticField> fields;
     fields.push_back(u8_field("description", {std::uint64_t(spec.description.size())},
                               std::vector<std::uint8_t>(spec.description.begin(), spec.description.end())));
     fields.push_back(u8_field("jacobian", {1}, {std::uint8_t(spec.jacobian ? 1 : 0)}));
-    fields.push_back(f32_field("phi_i", u64_shape({nP}), phi_i));
-    fields.push_back(f32_field("theta_i", u64_shape({nT}), theta_i));
-    fields.push_back(f32_field("ndf", u64_shape({ndf_rows, ndf_cols}), ndf));
-    fields.push_back(f32_field("sigma", u64_shape({ndf_rows, ndf_cols}), sigma));
-    fields.push_back(f32_field("vndf", u64_shape({nP, nT, V, V}), vndf));
-    fields.push_back(f32_field("luminance", u64_shape({nP, nT, S, S}), lum));
+    fields.push_back(f32_field("phi_i", u64_shape({nP}), t.phi_i));
+    fields.push_back(f32_field("theta_i", u64_shape({nT}), t.theta_i));
+    fields.push_back(f32_field("ndf", u64_shape({ndf_rows, ndf_cols}), t.ndf));
+    fields.push_back(f32_field("sigma", u64_shape({ndf_rows, ndf_cols}), t.sigma));
+    fields.push_back(f32_field("vndf", u64_shape({nP, nT, V, V}), t.vndf));
+    fields.push_back(f32_field("luminance", u64_shape({nP, nT, S, S}), t.lum));
     if (spec.spectral) {
         fields.push_back(f32_field("wavelengths", {std::uint64_t(nC)}, spec.wavelengths));
-        fields.push_back(f32_field("spectra", u64_shape({nP, nT, int(nC), S, S}), data));
+        fields.push_back(f32_field("spectra", u64_shape({nP, nT, int(nC), S, S}), t.data));
     } else {
-        fields.push_back(f32_field("rgb", u64_shape({nP, nT, 3, S, S}), data));
+        fields.push_back(f32_field("rgb", u64_shape({nP, nT, 3, S, S}), t.data));
     }
     return fields;
 }
