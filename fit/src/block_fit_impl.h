@@ -1,5 +1,6 @@
 // BlockFit's updates (included by block_fit.h): each streams the samples once through one of
-// the passes of block_passes.h (built per instruction set), then solves its cells from the sums.
+// the passes of block_passes.h (built per instruction set), then solves its cells from the sums;
+// and run's sweeps, their acceleration (Anderson mixing: anderson.h) and their stopping test.
 #pragma once
 
 #include <npf/core/parallel.h>
