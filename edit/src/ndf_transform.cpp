@@ -111,6 +111,159 @@ std::string range_text(const std::vector<double>& v) {
     return *lo == *hi ? number_text(*lo, 6) : number_text(*lo, 6) + ".." + number_text(*hi, 6);
 }
 
+// The unit direction at polar angle theta and azimuth phi.
+Dir direction(double theta, double phi) {
+    return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+}
+
+// a v / |a v|, with |a v| in `length`.
+Dir mapped_unit(const Mat3& a, const Dir& v, double& length) {
+    const Dir q = times(a, v);
+    length = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
+    return {q.x / length, q.y / length, q.z / length};
+}
+
+// fn(cell, w) for the centre direction w of every cell of a theta_cells x phi_cells table
+// (theta(i) the centre of row i; one column means phi = 0).
+template <class Theta, class Fn>
+void for_each_cell_centre(int theta_cells, int phi_cells, Theta theta, Fn fn) {
+    for (int i = 0; i < theta_cells; ++i) {
+        const double t = theta(i, theta_cells);
+        for (int j = 0; j < phi_cells; ++j) {
+            const double phi = phi_cells == 1 ? 0.0 : equation::phi_centre(j, phi_cells);
+            fn(std::size_t(i) * std::size_t(phi_cells) + std::size_t(j), direction(t, phi));
+        }
+    }
+}
+
+detail::Tables zero_tables(std::size_t channels, int theta_cells, int phi_cells) {
+    detail::Tables t;
+    t.channels = channels;
+    t.cells = std::size_t(theta_cells) * std::size_t(phi_cells);
+    t.v.assign(channels * t.cells, 0.0);
+    return t;
+}
+
+// The matrix as applied: checked, scaled to M[2][2] = 1, with its determinant.
+struct NormalMatrix {
+    Mat3 m;
+    double det = 0.0;
+};
+
+NormalMatrix normal_matrix(const Mat3& given, const NdfTransformOptions& options) {
+    for (double v : given.m) {
+        if (!std::isfinite(v)) throw Error(kSource, "the matrix " + matrix_text(given) + " has a non-finite entry");
+    }
+    if (options.phi_cells < 0 || options.phi_cells > 4096) {
+        throw Error(kSource, "phi cells " + std::to_string(options.phi_cells) + " is outside 0..4096");
+    }
+    if (given(2, 2) == 0.0) {
+        throw Error(kSource, "the matrix " + matrix_text(given) + " maps the normal onto the horizon (M[2][2] = 0)");
+    }
+    // h' = M h / |M h| does not change when M is scaled by a positive number; dividing by M[2][2]
+    // also makes the image of the normal point up.
+    NormalMatrix n{given, 0.0};
+    for (double& v : n.m.m) v /= given(2, 2);
+    double norm = 0.0;
+    for (double v : n.m.m) norm = std::max(norm, std::fabs(v));
+    n.det = determinant(n.m);
+    if (!(std::fabs(n.det) > 1e-12 * norm * norm * norm)) {
+        throw Error(kSource, "the matrix " + matrix_text(given) + " is singular (determinant " + number_text(n.det) + ")");
+    }
+    return n;
+}
+
+// Whether an isotropic input stays isotropic under the tangent-plane map m: M2 = c R (a scaled
+// rotation or reflection). `rotation`: c = 1.
+bool keeps_isotropy(const Mat3& m, bool& rotation) {
+    const double a = m(0, 0), b = m(0, 1), c = m(1, 0), d = m(1, 1);
+    const double n1 = a * a + c * c, n2 = b * b + d * d, cross = a * b + c * d, s = std::max(n1, n2);
+    const bool isotropic = std::fabs(n1 - n2) <= 1e-12 * s && std::fabs(cross) <= 1e-12 * s;
+    rotation = isotropic && std::fabs(n1 - 1.0) <= 1e-12;
+    return isotropic;
+}
+
+// D' at the cell centres (d_phi columns) from the projected-area density (see the header).
+detail::Tables transformed_d(const NpfModel& in, const detail::Tables& d, const NormalMatrix& n, int d_phi) {
+    const std::size_t C = in.channel_count();
+    const Mat3 m_inv = inverse(n.m, n.det);
+    const double inv_det = 1.0 / std::fabs(n.det);
+    detail::Tables d2 = zero_tables(C, in.d_theta, d_phi);
+    for_each_cell_centre(in.d_theta, d_phi, equation::theta_h_centre, [&](std::size_t cell, const Dir& h) {
+        double len = 0.0;
+        const Dir ho = mapped_unit(m_inv, h, len);
+        if (!(ho.z > 0.0)) return;  // from below the horizon: no facets there
+        const double jacobian = inv_det / (len * len * len) * ho.z / h.z;
+        const Bilinear b = d_position(ho, in.d_theta, in.d_phi);
+        for (std::size_t c = 0; c < C; ++c) d2.row(c)[cell] = at(d.row(c), b) * jacobian;
+    });
+    return d2;
+}
+
+// D' renormalised to projected area 1 per channel, the input's own area moved into base.rho_s so
+// that the BRDF keeps its scale (it is 1 up to the SVD's truncation for a converted file). The
+// raw area of each channel with a lobe over the input's.
+std::vector<double> renormalise_d(const NpfModel& in, const std::vector<double>& area_in, int d_phi, const Mat3& given,
+                                  detail::Tables& d2, NpfModel& base) {
+    const std::vector<double> area_raw = detail::projected_areas(d2, in.d_theta, d_phi);
+    std::vector<double> area_ratio;
+    for (std::size_t c = 0; c < in.channel_count(); ++c) {
+        if (!(area_in[c] > 0.0)) continue;  // no specular lobe in this channel: nothing to keep
+        if (!(area_raw[c] > 0.0)) {
+            throw Error(kSource, "the matrix " + matrix_text(given) + " leaves channel " + std::to_string(c) +
+                                     " with no normals above the horizon");
+        }
+        double* row = d2.row(c);
+        for (std::size_t k = 0; k < d2.cells; ++k) row[k] /= area_raw[c];
+        base.rho_s[c] = float(base.rho_s[c] * area_in[c]);
+        area_ratio.push_back(area_raw[c] / area_in[c]);
+    }
+    return area_ratio;
+}
+
+// G'(w) = G(M^T w / |M^T w|): the ray map of the transformed microsurface, at g_phi columns, with
+// G's gauge (its value at normal incidence) kept as it was; the change goes into base.rho_s,
+// which leaves the BRDF as it is. For tangent-plane maps the normal maps to itself and this is a
+// rounding-level correction.
+detail::Tables transformed_g(const NpfModel& in, const Mat3& m, int g_phi, NpfModel& base) {
+    const std::size_t C = in.channel_count();
+    const detail::Tables g = detail::expand(in.G, C);
+    const Mat3 mt = transpose(m);
+    detail::Tables g2 = zero_tables(C, in.g_theta, g_phi);
+    for_each_cell_centre(in.g_theta, g_phi, equation::theta_centre, [&](std::size_t cell, const Dir& w) {
+        double len = 0.0;
+        const Dir wo = mapped_unit(mt, w, len);
+        if (!(wo.z > 0.0)) return;
+        const Bilinear b = g_position(wo, in.g_theta, in.g_phi);
+        for (std::size_t c = 0; c < C; ++c) g2.row(c)[cell] = at(g.row(c), b);
+    });
+    const std::vector<double> g0_in = first_row_means(g, in.g_phi), g0_out = first_row_means(g2, g_phi);
+    for (std::size_t c = 0; c < C; ++c) {
+        if (!(g0_out[c] > 0.0) || !(g0_in[c] > 0.0)) continue;
+        const double r = g0_in[c] / g0_out[c];
+        double* row = g2.row(c);
+        for (std::size_t k = 0; k < g2.cells; ++k) row[k] *= r;
+        base.rho_s[c] = float(base.rho_s[c] / (r * r));
+    }
+    return g2;
+}
+
+void record_transform(const NpfModel& in, const NpfModel& out, const std::string& label, bool tangent,
+                      const std::vector<double>& area_ratio, EditRecord& record) {
+    record.summary = label + (tangent ? "" : " (tilting)") + ": D " + std::to_string(out.d_theta) + " x " +
+                     std::to_string(out.d_phi) + ", G " + std::to_string(out.g_theta) + " x " + std::to_string(out.g_phi) +
+                     "; projected area of D on the grid " + range_text(area_ratio) +
+                     " of the input's before renormalisation to 1; SVD ranks D " + std::to_string(out.D.rank) +
+                     " (keeps " + number_text(out.D.kept_ratio, 6) + " of the edited tables; the input kept " +
+                     number_text(in.D.kept_ratio, 6) + "), G " + std::to_string(out.G.rank) + " (keeps " +
+                     number_text(out.G.kept_ratio, 6) + "; input " + number_text(in.G.kept_ratio, 6) + ")";
+    if (!tangent) {
+        detail::warn(&record, "the matrix tilts the normal distribution (a mean-slope offset): D was cut at the horizon "
+                              "and renormalised, and G's directional transform is only approximately consistent "
+                              "with it (docs/editing.md)");
+    }
+}
+
 }  // namespace
 
 Mat3 stretch_matrix(double tangent, double bitangent) {
@@ -154,122 +307,31 @@ std::vector<double> projected_area(const NpfModel& model) {
 }
 
 NpfModel transform_ndf(const NpfModel& in, const Mat3& given, const NdfTransformOptions& options, EditRecord* record) {
-    for (double v : given.m) {
-        if (!std::isfinite(v)) throw Error(kSource, "the matrix " + matrix_text(given) + " has a non-finite entry");
-    }
-    if (options.phi_cells < 0 || options.phi_cells > 4096) {
-        throw Error(kSource, "phi cells " + std::to_string(options.phi_cells) + " is outside 0..4096");
-    }
-    if (given(2, 2) == 0.0) {
-        throw Error(kSource, "the matrix " + matrix_text(given) + " maps the normal onto the horizon (M[2][2] = 0)");
-    }
-    // h' = M h / |M h| does not change when M is scaled by a positive number; dividing by M[2][2]
-    // also makes the image of the normal point up.
-    Mat3 m = given;
-    for (double& v : m.m) v /= given(2, 2);
-    double norm = 0.0;
-    for (double v : m.m) norm = std::max(norm, std::fabs(v));
-    const double det = determinant(m);
-    if (!(std::fabs(det) > 1e-12 * norm * norm * norm)) {
-        throw Error(kSource, "the matrix " + matrix_text(given) + " is singular (determinant " + number_text(det) + ")");
-    }
+    const NormalMatrix n = normal_matrix(given, options);
+    const Mat3& m = n.m;
     const std::string label = "ndf transform M = " + matrix_text(m);
     if (m == Mat3::identity()) {
         if (record) record->summary = label + ": the identity, nothing changed";
         return in;
     }
     const bool tangent = tangent_plane(m);
-    bool isotropic_out = false;
+    bool isotropic_out = false, rotation = false;
     if (in.isotropic() && tangent) {
-        // An isotropic D stays isotropic under M2 = c R (a scaled rotation or reflection).
-        const double a = m(0, 0), b = m(0, 1), c = m(1, 0), d = m(1, 1);
-        const double n1 = a * a + c * c, n2 = b * b + d * d, cross = a * b + c * d, s = std::max(n1, n2);
-        isotropic_out = std::fabs(n1 - n2) <= 1e-12 * s && std::fabs(cross) <= 1e-12 * s;
-        if (isotropic_out && std::fabs(n1 - 1.0) <= 1e-12) {
+        isotropic_out = keeps_isotropy(m, rotation);
+        if (rotation) {
             if (record) record->summary = label + ": a rotation of an isotropic material, nothing changed";
             return in;
         }
     }
-
-    const std::size_t C = in.channel_count();
     const int d_phi = in.d_phi > 1 || isotropic_out ? in.d_phi : (options.phi_cells > 0 ? options.phi_cells : 2 * in.d_theta);
     const int g_phi = in.g_phi > 1 || isotropic_out ? in.g_phi : (options.phi_cells > 0 ? options.phi_cells : 2 * in.g_theta);
 
-    const detail::Tables d = detail::expand(in.D, C), g = detail::expand(in.G, C);
-    const std::vector<double> area_in = detail::projected_areas(d, in.d_theta, in.d_phi);
-    const std::vector<double> g0_in = first_row_means(g, in.g_phi);
-
-    // D' at the cell centres from the projected-area density (see the header).
-    const Mat3 m_inv = inverse(m, det);
-    const double inv_det = 1.0 / std::fabs(det);
-    detail::Tables d2;
-    d2.channels = C;
-    d2.cells = std::size_t(in.d_theta) * std::size_t(d_phi);
-    d2.v.assign(C * d2.cells, 0.0);
-    for (int i = 0; i < in.d_theta; ++i) {
-        const double theta = equation::theta_h_centre(i, in.d_theta);
-        for (int j = 0; j < d_phi; ++j) {
-            const double phi = d_phi == 1 ? 0.0 : equation::phi_centre(j, d_phi);
-            const Dir h{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-            const Dir q = times(m_inv, h);
-            const double len = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
-            const Dir ho{q.x / len, q.y / len, q.z / len};
-            if (!(ho.z > 0.0)) continue;  // from below the horizon: no facets there
-            const double jacobian = inv_det / (len * len * len) * ho.z / h.z;
-            const Bilinear b = d_position(ho, in.d_theta, in.d_phi);
-            const std::size_t cell = std::size_t(i) * std::size_t(d_phi) + std::size_t(j);
-            for (std::size_t c = 0; c < C; ++c) d2.row(c)[cell] = at(d.row(c), b) * jacobian;
-        }
-    }
-    const std::vector<double> area_raw = detail::projected_areas(d2, in.d_theta, d_phi);
     NpfModel base = in;
-    std::vector<double> area_ratio;
-    for (std::size_t c = 0; c < C; ++c) {
-        if (!(area_in[c] > 0.0)) continue;  // no specular lobe in this channel: nothing to keep
-        if (!(area_raw[c] > 0.0)) {
-            throw Error(kSource, "the matrix " + matrix_text(given) + " leaves channel " + std::to_string(c) +
-                                     " with no normals above the horizon");
-        }
-        double* row = d2.row(c);
-        for (std::size_t k = 0; k < d2.cells; ++k) row[k] /= area_raw[c];
-        // Projected area 1 (the gauge), with the input's own area moved into rho_s so that the
-        // BRDF keeps its scale (it is 1 up to the SVD's truncation for a converted file).
-        base.rho_s[c] = float(base.rho_s[c] * area_in[c]);
-        area_ratio.push_back(area_raw[c] / area_in[c]);
-    }
-
-    // G'(w) = G(M^T w / |M^T w|): the ray map of the transformed microsurface.
-    const Mat3 mt = transpose(m);
-    detail::Tables g2;
-    g2.channels = C;
-    g2.cells = std::size_t(in.g_theta) * std::size_t(g_phi);
-    g2.v.assign(C * g2.cells, 0.0);
-    for (int i = 0; i < in.g_theta; ++i) {
-        const double theta = equation::theta_centre(i, in.g_theta);
-        for (int j = 0; j < g_phi; ++j) {
-            const double phi = g_phi == 1 ? 0.0 : equation::phi_centre(j, g_phi);
-            const Dir w{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-            const Dir q = times(mt, w);
-            const double len = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
-            const Dir wo{q.x / len, q.y / len, q.z / len};
-            if (!(wo.z > 0.0)) continue;
-            const Bilinear b = g_position(wo, in.g_theta, in.g_phi);
-            const std::size_t cell = std::size_t(i) * std::size_t(g_phi) + std::size_t(j);
-            for (std::size_t c = 0; c < C; ++c) g2.row(c)[cell] = at(g.row(c), b);
-        }
-    }
-    // Keep G's gauge (its value at normal incidence) as it was; the change goes into rho_s, which
-    // leaves the BRDF as it is. For tangent-plane maps the normal maps to itself and this is a
-    // rounding-level correction.
-    const std::vector<double> g0_out = first_row_means(g2, g_phi);
-    for (std::size_t c = 0; c < C; ++c) {
-        if (!(g0_out[c] > 0.0) || !(g0_in[c] > 0.0)) continue;
-        const double r = g0_in[c] / g0_out[c];
-        double* row = g2.row(c);
-        for (std::size_t k = 0; k < g2.cells; ++k) row[k] *= r;
-        base.rho_s[c] = float(base.rho_s[c] / (r * r));
-    }
-
+    const detail::Tables d = detail::expand(in.D, in.channel_count());
+    detail::Tables d2 = transformed_d(in, d, n, d_phi);
+    const std::vector<double> area_in = detail::projected_areas(d, in.d_theta, in.d_phi);
+    const std::vector<double> area_ratio = renormalise_d(in, area_in, d_phi, given, d2, base);
+    const detail::Tables g2 = transformed_g(in, m, g_phi, base);
     NpfModel out = detail::recompress(base, d2, d_phi, g2, g_phi, in, options.recompress);
     if (in.has_detail()) {
         // Kept where the transform leaves its coordinates alone; a reshaped lobe drops it.
@@ -280,20 +342,7 @@ NpfModel transform_ndf(const NpfModel& in, const Mat3& given, const NdfTransform
         }
     }
     out.validate(kSource);
-    if (record) {
-        record->summary = label + (tangent ? "" : " (tilting)") + ": D " + std::to_string(out.d_theta) + " x " +
-                          std::to_string(out.d_phi) + ", G " + std::to_string(out.g_theta) + " x " +
-                          std::to_string(out.g_phi) + "; projected area of D on the grid " + range_text(area_ratio) +
-                          " of the input's before renormalisation to 1; SVD ranks D " + std::to_string(out.D.rank) +
-                          " (keeps " + number_text(out.D.kept_ratio, 6) + " of the edited tables; the input kept " +
-                          number_text(in.D.kept_ratio, 6) + "), G " + std::to_string(out.G.rank) + " (keeps " +
-                          number_text(out.G.kept_ratio, 6) + "; input " + number_text(in.G.kept_ratio, 6) + ")";
-        if (!tangent) {
-            detail::warn(record, "the matrix tilts the normal distribution (a mean-slope offset): D was cut at the horizon "
-                                 "and renormalised, and G's directional transform is only approximately consistent "
-                                 "with it (docs/editing.md)");
-        }
-    }
+    if (record) record_transform(in, out, label, tangent, area_ratio, *record);
     return out;
 }
 

@@ -71,6 +71,188 @@ void require_positive(const color::SampledSpectrum& s, const std::string& what, 
     }
 }
 
+// The base's complex index as spectra, given or fitted to the model's F (`fitted` then).
+struct BaseIndex {
+    color::SampledSpectrum eta, k;
+    FittedBase fitted;
+};
+
+BaseIndex base_index(const NpfModel& model, const FilmBase& given) {
+    BaseIndex b;
+    if (given.fitted) {
+        b.fitted = fit_base_ior(model);
+        std::vector<double> wl = b.fitted.wavelengths_nm, eta = b.fitted.eta, k = b.fitted.k;
+        if (model.channels.is_rgb()) {  // ascending: B, G, R
+            std::reverse(wl.begin(), wl.end());
+            std::reverse(eta.begin(), eta.end());
+            std::reverse(k.begin(), k.end());
+        }
+        b.eta = color::SampledSpectrum(wl, eta);
+        b.k = color::SampledSpectrum(wl, k);
+    } else {
+        require_positive(given.eta, "the base index eta", false);
+        b.eta = given.eta;
+        b.k = given.k.empty() ? color::SampledSpectrum::constant(0.0) : given.k;
+        require_positive(b.k, "the base index k", true);
+    }
+    return b;
+}
+
+// R_film and R_bare per channel at every theta_d centre of F: [channels][f_theta].
+struct Reflectances {
+    std::vector<double> film, bare;
+    std::size_t negative = 0;  // RGB components below 0 (outside the gamut), set to 0
+};
+
+double theta_d_cosine(int i, int n) { return std::cos(kHalfPiD * (i + 0.5) / n); }
+
+// A spectral model's channels: the reflectances at their wavelengths.
+void spectral_reflectances(const NpfModel& model, const Fresnel& with, const Fresnel& bare, Reflectances& r) {
+    const int n = model.f_theta;
+    const std::vector<float>& wl = model.channels.wavelengths();
+    for (std::size_t c = 0; c < model.channel_count(); ++c) {
+        const Fresnel::Coefficients kw = with.coefficients(wl[c]), kb = bare.coefficients(wl[c]);
+        for (int i = 0; i < n; ++i) {
+            const double ct = theta_d_cosine(i, n);
+            r.film[c * std::size_t(n) + std::size_t(i)] = with.eval(ct, kw);
+            r.bare[c * std::size_t(n) + std::size_t(i)] = bare.eval(ct, kb);
+        }
+    }
+}
+
+// An RGB model's channels: the colours of the reflectance spectra (1 nm, 360..830 nm).
+void rgb_reflectances(const NpfModel& model, const Fresnel& with, const Fresnel& bare, Reflectances& r) {
+    const int n = model.f_theta;
+    std::vector<float> grid;
+    for (int l = 360; l <= 830; ++l) grid.push_back(float(l));
+    const auto w = color::linear_srgb_weights(grid);
+    std::vector<Fresnel::Coefficients> kw, kb;
+    for (float l : grid) kw.push_back(with.coefficients(l)), kb.push_back(bare.coefficients(l));
+    for (int i = 0; i < n; ++i) {
+        const double ct = theta_d_cosine(i, n);
+        double a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
+        for (std::size_t j = 0; j < grid.size(); ++j) {
+            const double rf = with.eval(ct, kw[j]), rb = bare.eval(ct, kb[j]);
+            for (int c = 0; c < 3; ++c) a[c] += w[std::size_t(c)][j] * rf, b[c] += w[std::size_t(c)][j] * rb;
+        }
+        for (std::size_t c = 0; c < 3; ++c) {
+            if (a[c] < 0.0) a[c] = 0.0, ++r.negative;
+            r.film[c * std::size_t(n) + std::size_t(i)] = a[c];
+            r.bare[c * std::size_t(n) + std::size_t(i)] = b[c];
+        }
+    }
+}
+
+Reflectances reflectances(const NpfModel& model, const Fresnel& with, const Fresnel& bare) {
+    Reflectances r;
+    r.film.resize(model.channel_count() * std::size_t(model.f_theta));
+    r.bare.resize(r.film.size());
+    if (model.channels.is_rgb()) rgb_reflectances(model, with, bare, r);
+    else spectral_reflectances(model, with, bare, r);
+    return r;
+}
+
+// Channel c of `out` (a copy of `model`) with the film: F and rho_s by the film's mode.
+void apply_to_channel(const NpfModel& model, FilmMode mode, const Reflectances& r, const BaseIndex& base, std::size_t c,
+                      NpfModel& out) {
+    const int n = model.f_theta;
+    const double* rf = &r.film[c * std::size_t(n)];
+    const double* rb = &r.bare[c * std::size_t(n)];
+    float* f = out.F.data() + c * std::size_t(n);
+    const float* f_in = model.F.data() + c * std::size_t(n);
+    const double k0_before = double(model.rho_s[c]) * f_in[0];
+    for (int i = 0; i < n; ++i) {
+        if (!(rb[i] > 1e-12)) {
+            throw Error(kSource, "the base (index " + number_text(base.eta(kRgbWavelengths[1]), 4) +
+                                     ") reflects nothing: the film's effect is undefined");
+        }
+    }
+    if (mode == FilmMode::Ratio) {
+        const double g = rf[0] / rb[0];
+        if (g > 0.0) {
+            for (int i = 0; i < n; ++i) f[i] = float(double(f_in[i]) * (rf[i] / rb[i]) / g);
+            out.rho_s[c] = float(double(model.rho_s[c]) * g);
+        } else {  // the film cancels the reflection at normal incidence
+            for (int i = 0; i < n; ++i) f[i] = float(double(f_in[i]) * (rf[i] / rb[i]));
+        }
+    } else {
+        if (rf[0] > 0.0) {
+            for (int i = 0; i < n; ++i) f[i] = float(rf[i] / rf[0]);
+            out.rho_s[c] = float(k0_before * rf[0] / rb[0]);
+        } else {
+            for (int i = 0; i < n; ++i) f[i] = float(rf[i] / rb[0]);
+            out.rho_s[c] = float(k0_before);
+        }
+    }
+}
+
+// rho_s F at normal incidence per channel.
+std::vector<double> normal_specular(const NpfModel& model) {
+    std::vector<double> k0(model.channel_count());
+    for (std::size_t c = 0; c < k0.size(); ++c) k0[c] = double(model.rho_s[c]) * model.F[c * std::size_t(model.f_theta)];
+    return k0;
+}
+
+// "(r, g, b)" of a per-channel quantity (its colour for a spectral model).
+std::string colour_text(const NpfModel& model, const std::vector<double>& v) {
+    std::vector<double> rgb = v;
+    if (!model.channels.is_rgb()) {
+        const auto w = color::linear_srgb_weights(model.channels.wavelengths());
+        rgb.assign(3, 0.0);
+        for (std::size_t k = 0; k < 3; ++k) {
+            for (std::size_t c = 0; c < v.size(); ++c) rgb[k] += w[k][c] * v[c];
+        }
+    }
+    return "(" + number_text(rgb[0], 4) + ", " + number_text(rgb[1], 4) + ", " + number_text(rgb[2], 4) + ")";
+}
+
+// The warnings of a film on `model`: a poorly fitted base, colours out of gamut, fringes the
+// stored wavelengths do not resolve.
+void warn_film(const NpfModel& model, const ThinFilm& film, const FittedBase& fitted, std::size_t negative,
+               EditRecord* record) {
+    if (film.base.fitted && fitted.clamped_f0 > 0) {
+        detail::warn(record, std::to_string(fitted.clamped_f0) + " channel(s) have 4 rho_s outside [1e-4, 0.98] (not a "
+                             "microfacet material's gauge): the fitted base's F0 was clamped");
+    }
+    if (film.base.fitted && !fitted.rms.empty() && *std::max_element(fitted.rms.begin(), fitted.rms.end()) > kPoorFit) {
+        detail::warn(record, "the material's F is far from every Fresnel curve with F0 = 4 rho_s (normalised curve RMS up to " +
+                                 number_text(*std::max_element(fitted.rms.begin(), fitted.rms.end()), 3) +
+                                 "): the fitted base index is a rough guess; give the base (a metal, eta or eta,k) if known");
+    }
+    if (negative > 0) {
+        detail::warn(record, "the film's colour lies outside the sRGB gamut at " + std::to_string(negative) +
+                                 " theta_d cell(s); negative components set to 0");
+    }
+    if (!model.channels.is_rgb() && film.thickness_nm > 0.0) {
+        const std::vector<float>& wl = model.channels.wavelengths();
+        double spacing = 0.0;
+        for (std::size_t c = 1; c < wl.size(); ++c) spacing = std::max(spacing, double(wl[c] - wl[c - 1]));
+        const double l0 = wl.front(), period = l0 * l0 / (2.0 * film.film_eta(l0) * film.thickness_nm);
+        if (wl.size() < 2 || spacing > 0.5 * period) {
+            detail::warn(record, "the stored wavelengths (spacing up to " + number_text(spacing, 4) +
+                                     " nm) do not resolve the film's fringes (period about " + number_text(period, 3) +
+                                     " nm at " + number_text(l0, 4) + " nm): the colours alias");
+        }
+    }
+}
+
+void record_film(const NpfModel& model, const NpfModel& out, const ThinFilm& film, const BaseIndex& b,
+                 std::size_t negative, EditRecord& record) {
+    std::string base;
+    if (film.base.fitted) {
+        base = "fitted to F (F0 = 4 rho_s " + range_text(b.fitted.f0) + ", eta " + range_text(b.fitted.eta) + ", k " +
+               range_text(b.fitted.k) + ", curve RMS " + range_text(b.fitted.rms) + ")";
+    } else {
+        base = (film.base.label.empty() ? "given" : film.base.label) + " (eta " + spectrum_text(b.eta) + ", k " +
+               spectrum_text(b.k) + ")";
+    }
+    record.summary = "thin film " + number_text(film.thickness_nm) + " nm of index " + spectrum_text(film.film_eta) +
+                     " on base " + base + ", mode " + (film.mode == FilmMode::Ratio ? "ratio" : "replace") +
+                     ": rho_s F at normal incidence " + colour_text(model, normal_specular(model)) + " -> " +
+                     colour_text(model, normal_specular(out));
+    warn_film(model, film, b.fitted, negative, &record);
+}
+
 }  // namespace
 
 double fresnel_reflectance(double cos_theta, double eta, double k) {
@@ -151,148 +333,14 @@ NpfModel apply_thin_film(const NpfModel& model, const ThinFilm& film, EditRecord
         throw Error(kSource, "thickness " + number_text(film.thickness_nm) + " nm is not a finite number >= 0");
     }
     require_positive(film.film_eta, "the film index", false);
-    const std::size_t C = model.channel_count();
-    const int n = model.f_theta;
-
-    // The base's index as spectra.
-    color::SampledSpectrum base_eta, base_k;
-    FittedBase fitted;
-    if (film.base.fitted) {
-        fitted = fit_base_ior(model);
-        std::vector<double> wl = fitted.wavelengths_nm, eta = fitted.eta, k = fitted.k;
-        if (model.channels.is_rgb()) {  // ascending: B, G, R
-            std::reverse(wl.begin(), wl.end());
-            std::reverse(eta.begin(), eta.end());
-            std::reverse(k.begin(), k.end());
-        }
-        base_eta = color::SampledSpectrum(wl, eta);
-        base_k = color::SampledSpectrum(wl, k);
-    } else {
-        require_positive(film.base.eta, "the base index eta", false);
-        base_eta = film.base.eta;
-        base_k = film.base.k.empty() ? color::SampledSpectrum::constant(0.0) : film.base.k;
-        require_positive(base_k, "the base index k", true);
-    }
-    const Fresnel with = Fresnel::thin_film(film.thickness_nm, film.film_eta, base_eta, base_k);
-    const Fresnel bare = Fresnel::thin_film(0.0, film.film_eta, base_eta, base_k);
-
-    // R_film and R_bare per channel at every theta_d centre: [C][n].
-    std::vector<double> r_film(C * std::size_t(n)), r_bare(C * std::size_t(n));
-    std::size_t negative = 0;
-    if (!model.channels.is_rgb()) {
-        const std::vector<float>& wl = model.channels.wavelengths();
-        for (std::size_t c = 0; c < C; ++c) {
-            const Fresnel::Coefficients kw = with.coefficients(wl[c]), kb = bare.coefficients(wl[c]);
-            for (int i = 0; i < n; ++i) {
-                const double ct = std::cos(kHalfPiD * (i + 0.5) / n);
-                r_film[c * std::size_t(n) + std::size_t(i)] = with.eval(ct, kw);
-                r_bare[c * std::size_t(n) + std::size_t(i)] = bare.eval(ct, kb);
-            }
-        }
-    } else {
-        std::vector<float> grid;
-        for (int l = 360; l <= 830; ++l) grid.push_back(float(l));
-        const auto w = color::linear_srgb_weights(grid);
-        std::vector<Fresnel::Coefficients> kw, kb;
-        for (float l : grid) kw.push_back(with.coefficients(l)), kb.push_back(bare.coefficients(l));
-        for (int i = 0; i < n; ++i) {
-            const double ct = std::cos(kHalfPiD * (i + 0.5) / n);
-            double a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
-            for (std::size_t j = 0; j < grid.size(); ++j) {
-                const double rf = with.eval(ct, kw[j]), rb = bare.eval(ct, kb[j]);
-                for (int c = 0; c < 3; ++c) a[c] += w[std::size_t(c)][j] * rf, b[c] += w[std::size_t(c)][j] * rb;
-            }
-            for (std::size_t c = 0; c < 3; ++c) {
-                if (a[c] < 0.0) a[c] = 0.0, ++negative;
-                r_film[c * std::size_t(n) + std::size_t(i)] = a[c];
-                r_bare[c * std::size_t(n) + std::size_t(i)] = b[c];
-            }
-        }
-    }
-
+    const BaseIndex base = base_index(model, film.base);
+    const Fresnel with = Fresnel::thin_film(film.thickness_nm, film.film_eta, base.eta, base.k);
+    const Fresnel bare = Fresnel::thin_film(0.0, film.film_eta, base.eta, base.k);
+    const Reflectances r = reflectances(model, with, bare);
     NpfModel out = model;
-    std::vector<double> k0_before(C), k0_after(C);
-    for (std::size_t c = 0; c < C; ++c) {
-        const double* rf = &r_film[c * std::size_t(n)];
-        const double* rb = &r_bare[c * std::size_t(n)];
-        float* f = out.F.data() + c * std::size_t(n);
-        const float* f_in = model.F.data() + c * std::size_t(n);
-        k0_before[c] = double(model.rho_s[c]) * f_in[0];
-        for (int i = 0; i < n; ++i) {
-            if (!(rb[i] > 1e-12)) {
-                throw Error(kSource, "the base (index " + number_text(base_eta(kRgbWavelengths[1]), 4) +
-                                         ") reflects nothing: the film's effect is undefined");
-            }
-        }
-        if (film.mode == FilmMode::Ratio) {
-            const double g = rf[0] / rb[0];
-            if (g > 0.0) {
-                for (int i = 0; i < n; ++i) f[i] = float(double(f_in[i]) * (rf[i] / rb[i]) / g);
-                out.rho_s[c] = float(double(model.rho_s[c]) * g);
-            } else {  // the film cancels the reflection at normal incidence
-                for (int i = 0; i < n; ++i) f[i] = float(double(f_in[i]) * (rf[i] / rb[i]));
-            }
-        } else {
-            if (rf[0] > 0.0) {
-                for (int i = 0; i < n; ++i) f[i] = float(rf[i] / rf[0]);
-                out.rho_s[c] = float(k0_before[c] * rf[0] / rb[0]);
-            } else {
-                for (int i = 0; i < n; ++i) f[i] = float(rf[i] / rb[0]);
-                out.rho_s[c] = float(k0_before[c]);
-            }
-        }
-        k0_after[c] = double(out.rho_s[c]) * f[0];
-    }
+    for (std::size_t c = 0; c < model.channel_count(); ++c) apply_to_channel(model, film.mode, r, base, c, out);
     out.validate(kSource);
-
-    if (record) {
-        std::string base;
-        if (film.base.fitted) {
-            base = "fitted to F (F0 = 4 rho_s " + range_text(fitted.f0) + ", eta " + range_text(fitted.eta) + ", k " +
-                   range_text(fitted.k) + ", curve RMS " + range_text(fitted.rms) + ")";
-        } else {
-            base = (film.base.label.empty() ? "given" : film.base.label) + " (eta " + spectrum_text(base_eta) + ", k " +
-                   spectrum_text(base_k) + ")";
-        }
-        auto colour = [&](const std::vector<double>& v) {
-            std::vector<double> rgb = v;
-            if (!model.channels.is_rgb()) {
-                const auto w = color::linear_srgb_weights(model.channels.wavelengths());
-                rgb.assign(3, 0.0);
-                for (std::size_t k = 0; k < 3; ++k) {
-                    for (std::size_t c = 0; c < C; ++c) rgb[k] += w[k][c] * v[c];
-                }
-            }
-            return "(" + number_text(rgb[0], 4) + ", " + number_text(rgb[1], 4) + ", " + number_text(rgb[2], 4) + ")";
-        };
-        record->summary = "thin film " + number_text(film.thickness_nm) + " nm of index " + spectrum_text(film.film_eta) +
-                          " on base " + base + ", mode " + (film.mode == FilmMode::Ratio ? "ratio" : "replace") +
-                          ": rho_s F at normal incidence " + colour(k0_before) + " -> " + colour(k0_after);
-        if (film.base.fitted && fitted.clamped_f0 > 0) {
-            detail::warn(record, std::to_string(fitted.clamped_f0) + " channel(s) have 4 rho_s outside [1e-4, 0.98] (not a "
-                                 "microfacet material's gauge): the fitted base's F0 was clamped");
-        }
-        if (film.base.fitted && !fitted.rms.empty() && *std::max_element(fitted.rms.begin(), fitted.rms.end()) > kPoorFit) {
-            detail::warn(record, "the material's F is far from every Fresnel curve with F0 = 4 rho_s (normalised curve RMS up to " +
-                                     number_text(*std::max_element(fitted.rms.begin(), fitted.rms.end()), 3) +
-                                     "): the fitted base index is a rough guess; give the base (a metal, eta or eta,k) if known");
-        }
-        if (negative > 0) {
-            detail::warn(record, "the film's colour lies outside the sRGB gamut at " + std::to_string(negative) +
-                                     " theta_d cell(s); negative components set to 0");
-        }
-        if (!model.channels.is_rgb() && film.thickness_nm > 0.0) {
-            const std::vector<float>& wl = model.channels.wavelengths();
-            double spacing = 0.0;
-            for (std::size_t c = 1; c < wl.size(); ++c) spacing = std::max(spacing, double(wl[c] - wl[c - 1]));
-            const double l0 = wl.front(), period = l0 * l0 / (2.0 * film.film_eta(l0) * film.thickness_nm);
-            if (wl.size() < 2 || spacing > 0.5 * period) {
-                detail::warn(record, "the stored wavelengths (spacing up to " + number_text(spacing, 4) +
-                                         " nm) do not resolve the film's fringes (period about " + number_text(period, 3) +
-                                         " nm at " + number_text(l0, 4) + " nm): the colours alias");
-            }
-        }
-    }
+    if (record) record_film(model, out, film, base, r.negative, *record);
     if (out.F != model.F) detail::drop_detail(out, record, "the film changes F, and the residual was fitted under the old one");
     return out;
 }

@@ -3,6 +3,8 @@
 // one contiguous load. The sample geometry (cells, weights, cosines) is shared by the lanes.
 #pragma once
 
+#include "anderson.h"
+#include "block_factors.h"
 #include "block_passes.h"
 #include "sample_set.h"
 
@@ -13,29 +15,6 @@
 #include <vector>
 
 namespace npf::fit_detail {
-
-// One block's factors, lanes innermost.
-template <int L>
-struct BlockFactors {
-    std::vector<float> D, F, G;  // [cells][L]
-    std::array<double, L> rho_d{}, rho_s{};
-};
-
-// The last sweeps of a block, for Anderson acceleration (block_fit_impl.h).
-constexpr int kAndersonDepth = 8;  // differences kept
-
-template <int L>
-class Anderson {
-public:
-    // Records a sweep: x its start, g its result.
-    void push(const BlockFactors<L>& x, const BlockFactors<L>& g);
-    // Replaces D, F and G of the lanes it can mix (the result) by the mix; true for those lanes.
-    std::array<bool, L> mix(BlockFactors<L>& out) const;
-
-private:
-    std::vector<std::vector<float>> m_x, m_g;  // oldest first; D, F and G packed, lanes innermost
-    std::size_t m_d = 0, m_f = 0;              // D and F cells
-};
 
 template <int L>
 class BlockFit {
@@ -70,6 +49,20 @@ public:
     int run(BlockFactors<L>& f, bool cold, std::array<double, L>& error, Progress progress);
 
 private:
+    // run's steps.
+    struct Acceleration {
+        Anderson<L> anderson;
+        BlockFactors<L> before, mix;  // a sweep's start; the candidate
+        std::array<double, L> step;   // the line search's extrapolation step per lane
+    };
+    void pin_gauge(const BlockFactors<L>& f, bool cold);
+    void sweep(BlockFactors<L>& f, bool smith);
+    std::array<bool, L> propose(Acceleration& a, const BlockFactors<L>& f, bool smith, int it) const;
+    std::array<double, L> keep_better(BlockFactors<L>& f, Acceleration& a, const std::array<bool, L>& mixed,
+                                      std::array<char, L>& kept);
+    void trace(int it, const std::array<double, L>& e, const std::array<char, L>& kept) const;
+    bool converged(const std::vector<std::array<double, L>>& history) const;
+
     void update_d_and_diffuse(BlockFactors<L>& f);
     void update_f(BlockFactors<L>& f);
     void update_g(BlockFactors<L>& f);
@@ -83,6 +76,10 @@ private:
     // projected area of D seen from w (so the table, G / cos, is 1 / sigma).
     void smith_g_from_d(BlockFactors<L>& f) const;
 
+    // Runs `pass` (one of m_passes') on f over every slice into the slice's accumulator in
+    // `acc`, first zeroed to `size` values.
+    template <typename T, typename Pass>
+    void run_pass(Pass pass, const BlockFactors<L>& f, std::size_t size, std::vector<std::vector<T>>& acc);
     // Runs body(slice) for every slice, the slices shared out over the threads.
     template <typename Body>
     void for_each_slice(Body body) const;

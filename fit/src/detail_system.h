@@ -2,9 +2,7 @@
 // docs/fitting.md "Detail layer"): the data samples and their weights, the normal equations of
 // a trilinear grid's values (the data term's 27-point stencil with the smoothness term folded
 // in, the right-hand sides) and the energy rows. fit_detail_layer solves it per channel for the
-// shipped grid; bench/detail_families.cpp fits other representations of the same residual
-// (products of 1-D tables, which are trilinear tables of rank k) to the same objective. Internal
-// to the converter: not installed.
+// shipped grid. Internal to the fitter: not installed.
 #pragma once
 
 #include <npf/fit/detail_fit.h>
@@ -18,6 +16,8 @@
 namespace npf::fit_detail {
 
 constexpr int kDetailStencil = 27;  // the 3 x 3 x 3 neighbourhood of a cell
+// Slot of corner b relative to corner a in a's 27-point stencil.
+inline int stencil_slot(int dh, int dd, int dp) { return (dh + 1) * 9 + (dd + 1) * 3 + (dp + 1); }
 
 // The samples along one axis: their angle, their interpolation on the detail grid and the
 // axis' share of the cell measure.
