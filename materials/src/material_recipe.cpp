@@ -1,7 +1,6 @@
 #include <npf/materials/material_recipe.h>
 #include <npf/core/text.h>
 #include <npf/materials/analytic/analytic_brdf.h>
-#include <npf/materials/material_formats.h>
 
 #include <npf/materials/data_files.h>
 #include <npf/materials/yaml_context.h>
@@ -232,21 +231,6 @@ MaterialRecipe load_material_recipe(const std::string& path) {
     const std::string text = read_text_file(path, "a recipe", kRecipeTextBounds);
     const std::size_t slash = path.find_last_of('/');
     return parse_material_recipe(text, path, slash == std::string::npos ? "." : path.substr(0, slash));
-}
-
-// Analytic recipes (docs/synth.md) by their name, evaluated exactly.
-MaterialFormat recipe_material_format() {
-    MaterialFormat f;
-    f.claims_name = [](const std::string& path) { return ends_with(path, ".yaml") || ends_with(path, ".yml"); };
-    f.open = [](const std::string& path) -> std::unique_ptr<Brdf> {
-        const MaterialRecipe recipe = load_material_recipe(path);
-        try {
-            return std::make_unique<AnalyticBrdf>(recipe.material);
-        } catch (const Error& e) {
-            throw Error(path, e.problem());  // named by the recipe's file, not its material's name
-        }
-    };
-    return f;
 }
 
 }  // namespace npf
