@@ -42,3 +42,24 @@ function(npf_x86_simd_sources kind)
   endif()
   set_source_files_properties(${arg_FILES} PROPERTIES COMPILE_OPTIONS "${arg_EXTRA};${flags}")
 endfunction()
+
+# npf_shipped_file(DEFINE PREFIX FOR source.cpp FILE path INSTALL_DIR dir [ALSO files...]): a data
+# file npf ships (the default environment map, the OCIO config), found at run time beside an
+# installed executable (relative path), in this source tree (build trees), or under the configured
+# install prefix: `source.cpp` gets PREFIX_SOURCE, PREFIX_INSTALLED and PREFIX_FROM_BINDIR; the
+# file (and ALSO, e.g. its README) is installed into INSTALL_DIR under the data directory.
+function(npf_shipped_file)
+  cmake_parse_arguments(arg "" "DEFINE;FOR;FILE;INSTALL_DIR" "ALSO" ${ARGN})
+  get_filename_component(name ${arg_FILE} NAME)
+  set(installed ${CMAKE_INSTALL_FULL_DATADIR}/${arg_INSTALL_DIR}/${name})
+  file(RELATIVE_PATH from_bindir ${CMAKE_INSTALL_FULL_BINDIR} ${installed})
+  set_property(SOURCE ${arg_FOR} APPEND PROPERTY COMPILE_DEFINITIONS
+    ${arg_DEFINE}_SOURCE="${PROJECT_SOURCE_DIR}/${arg_FILE}"
+    ${arg_DEFINE}_INSTALLED="${installed}"
+    ${arg_DEFINE}_FROM_BINDIR="${from_bindir}")
+  set(also)
+  foreach(f ${arg_ALSO})
+    list(APPEND also ${PROJECT_SOURCE_DIR}/${f})
+  endforeach()
+  install(FILES ${PROJECT_SOURCE_DIR}/${arg_FILE} ${also} DESTINATION ${CMAKE_INSTALL_DATADIR}/${arg_INSTALL_DIR})
+endfunction()

@@ -36,11 +36,7 @@ std::string write_material(const std::string& dir, const std::string& name, bool
     s.alpha_y = 0.35;
     s.rho_d = 0.04;
     s.rho_s = rho_s;
-    s.d_theta = 16;
-    s.d_phi = 32;
-    s.g_theta = 16;
-    s.g_phi = 32;
-    s.f_theta = 16;
+    s.set_grid(16, 32, 16, 16, 32);
     NpfModel m = npf::compress_factors(npf::testing::make_microfacet_factors(s), npf::CompressionOptions());
     m.metadata = {{"description", name}};
     const std::string path = dir + "/" + name + ".exr";

@@ -31,11 +31,7 @@ NpfModel microfacet(double ax, double ay, bool anisotropic, bool spectral = fals
     s.rho_s = 0.1;
     s.spectral = spectral;
     s.channels = spectral ? 6 : 3;
-    s.d_theta = d_theta;
-    s.d_phi = anisotropic ? 2 * d_theta : 1;
-    s.f_theta = 32;
-    s.g_theta = 32;
-    s.g_phi = anisotropic ? 64 : 1;
+    s.set_grid(d_theta, anisotropic ? 2 * d_theta : 1, 32, 32, anisotropic ? 64 : 1);
     return npf::compress_factors(npf::testing::make_microfacet_factors(s), npf::CompressionOptions());
 }
 
@@ -282,10 +278,7 @@ TEST(EditNdf, SpectralModelIsRecompressedAtItsRank) {
     MicrofacetSpec s;
     s.spectral = true;
     s.channels = 8;
-    s.d_theta = 24;
-    s.d_phi = 48;
-    s.g_theta = 24;
-    s.g_phi = 48;
+    s.set_grid(24, 48, s.f_theta, 24, 48);
     s.alpha_x = 0.2;
     s.alpha_y = 0.4;
     npf::NpfFactors f = npf::testing::make_microfacet_factors(s);

@@ -29,11 +29,7 @@ TEST(SlowEditTiming, PaperSizedMaterial) {
     s.alpha_y = 0.35;
     s.rho_d = 0.02;
     s.rho_s = 0.2;
-    s.d_theta = 90;
-    s.d_phi = 180;
-    s.f_theta = 90;
-    s.g_theta = 90;
-    s.g_phi = 180;
+    s.set_grid(90, 180, 90, 90, 180);
     npf::CompressionOptions o;
     o.d_rank = 8;
     o.g_rank = 6;

@@ -30,6 +30,11 @@ struct MicrofacetSpec {
     std::size_t channels = 3;  // 3 with spectral = false: RGB
     bool spectral = false;     // wavelengths spread over 400..700 nm
     int d_theta = 32, d_phi = 1, f_theta = 32, g_theta = 32, g_phi = 1;
+
+    // The tables' sizes in one call: D (theta_h, phi_h), F (theta_d), G (theta, phi).
+    void set_grid(int d_theta_, int d_phi_, int f_theta_, int g_theta_, int g_phi_) {
+        d_theta = d_theta_, d_phi = d_phi_, f_theta = f_theta_, g_theta = g_theta_, g_phi = g_phi_;
+    }
 };
 
 NpfFactors make_microfacet_factors(const MicrofacetSpec& spec);
