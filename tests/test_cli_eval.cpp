@@ -24,16 +24,9 @@
 
 namespace {
 
+using namespace npf::testing;  // the CLI tests' helpers: run_npf, cli_materials, describe, ...
 using npf::RglBrdf;
 using npf::Vec3;
-using npf::testing::cli_folder;
-using npf::testing::cli_materials;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::lines_of;
-using npf::testing::run_npf;
-using npf::testing::SyntheticRglSpec;
-using npf::testing::ToolRun;
 
 void write_text(const std::string& path, const std::string& text) {
     ASSERT_TRUE(npf::testing::write_text(path, text)) << "cannot write " << path;
