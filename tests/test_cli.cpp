@@ -17,15 +17,7 @@
 
 namespace {
 
-using npf::testing::cli_folder;
-using npf::testing::cli_materials;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::has_line;
-using npf::testing::lines_of;
-using npf::testing::run_npf;
-using npf::testing::SyntheticRglSpec;
-using npf::testing::ToolRun;
+using namespace npf::testing;  // run_npf, cli_materials, describe, ...
 
 TEST(CliSetup, ToolExists) {
     struct stat st;

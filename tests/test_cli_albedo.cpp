@@ -15,10 +15,7 @@
 
 namespace {
 
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::ToolRun;
-using npf::testing::words_of;
+using namespace npf::testing;  // run_tool, describe, contains, ...
 
 // The lines of the table proper: after the '#' comments, before the "worst" line.
 std::vector<std::string> table_lines(const std::string& out) {

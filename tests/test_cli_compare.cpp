@@ -17,11 +17,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::has_line;
-using npf::testing::ToolRun;
-using npf::testing::write_float_exr;
+using namespace npf::testing;  // run_tool, describe, contains, ...
 
 std::string constant_exr(const std::string& dir, const std::string& name, float value, int width = 12, int height = 11) {
     const std::string path = (fs::path(dir) / name).string();

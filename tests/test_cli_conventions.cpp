@@ -21,11 +21,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::lines_of;
-using npf::testing::material_recipe;
-using npf::testing::ToolRun;
+using namespace npf::testing;  // run_tool, describe, contains, ...
 
 // main.cpp's table.
 const std::vector<std::string> kCommands = {"info",   "eval",   "convert", "synth",   "bench", "display",
@@ -204,7 +200,7 @@ TEST(CliConventions, FlagTableAndChoices) {
         ADD_FAILURE() << "no help for --help";
     } catch (const npf::cli::HelpRequest& help) {
         EXPECT_EQ(help.text.rfind("usage: test\n\n  -o VALUE", 0), 0u) << help.text;
-        EXPECT_TRUE(contains(help.text, "\n  --help                  show this help\n")) << help.text;
+        EXPECT_TRUE(contains(help.text, "\n  --help                 show this help\n")) << help.text;
     }
 }
 

@@ -18,10 +18,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::ToolRun;
-using npf::testing::write_float_exr;
+using namespace npf::testing;  // run_tool, describe, contains, ...
 
 const std::string kConfig = std::string(NPF_SOURCE_DIR) + "/configs/ocio/config.ocio";
 
