@@ -1,6 +1,7 @@
 // Time per eval_cos call (one direction pair, all channels) on the real RGL files, and per
 // pdf and sample call. Direction pairs are drawn once, up front, so the loop times only the
 // material. Run: build/bench/npf_bench_eval [--benchmark_filter=...]
+#include <npf/color/wavelength_sampling.h>
 #include <npf/materials/rgl_brdf.h>
 #ifdef NPF_BENCH_SYNTHETIC
 #include "synthetic_rgl.h"
@@ -143,11 +144,18 @@ void BM_EvalSpectralOneCallPerWavelength(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
 }
 
+// One set of hero wavelengths as npf's spectral rendering draws them (color/wavelength_sampling.h),
+// at a fixed sample: the same four wavelengths every run.
+std::vector<float> hero_wavelengths() {
+    const npf::color::HeroWavelengths hero = npf::color::sample_hero_wavelengths(0.3);
+    return std::vector<float>(hero.lambda_nm.begin(), hero.lambda_nm.end());
+}
+
 void BM_EvalSpectralFourHeroWavelengths(benchmark::State& state) {
     const npf::RglBrdf& brdf = spectral_material();
-    npf::ChannelQuery q = brdf.query(npf::Channels::spectral({412.3f, 523.9f, 601.2f, 688.8f}));
+    npf::ChannelQuery q = brdf.query(npf::Channels::spectral(hero_wavelengths()));
     const Pairs& p = random_pairs();
-    float out[4];
+    float out[npf::color::kHeroWavelengthCount];
     std::size_t i = 0;
     for (auto _ : state) {
         brdf.eval_cos(p.wi[i], p.wo[i], q, out);

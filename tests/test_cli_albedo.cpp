@@ -2,6 +2,7 @@
 // long spectra, azimuth rows for anisotropic files), the comparison with a reference (zero
 // against itself, the exact ratio of two Lambertian recipes, RGB against an analytic recipe), the
 // JSON output, and the errors (status 1, a message naming the culprit, nothing on stdout).
+#include "cli_run.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -14,16 +15,7 @@
 
 namespace {
 
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::ToolRun;
-
-std::vector<std::string> tokens(const std::string& line) {
-    std::istringstream is(line);
-    std::vector<std::string> out;
-    for (std::string t; is >> t;) out.push_back(t);
-    return out;
-}
+using namespace npf::testing;  // run_tool, describe, contains, ...
 
 // The lines of the table proper: after the '#' comments, before the "worst" line.
 std::vector<std::string> table_lines(const std::string& out) {
@@ -80,10 +72,10 @@ TEST(CliAlbedo, TableOfAnRgbMaterial) {
     EXPECT_TRUE(contains(all[3], "# estimator: 16 x 16 cells")) << describe(r);
     const std::vector<std::string> lines = table_lines(r.out);
     ASSERT_EQ(lines.size(), 13u) << describe(r);
-    EXPECT_EQ(tokens(lines[0]), (std::vector<std::string>{"theta", "R", "G", "B"}));
+    EXPECT_EQ(words_of(lines[0]), (std::vector<std::string>{"theta", "R", "G", "B"}));
     const char* thetas[] = {"0", "10", "20", "30", "40", "50", "60", "70", "80", "85", "87", "89"};
     for (std::size_t k = 1; k < lines.size(); ++k) {
-        const std::vector<std::string> t = tokens(lines[k]);
+        const std::vector<std::string> t = words_of(lines[k]);
         ASSERT_EQ(t.size(), 4u) << lines[k];
         EXPECT_EQ(t[0], thetas[k - 1]);
         for (std::size_t c = 1; c < 4; ++c) {
@@ -101,16 +93,16 @@ TEST(CliAlbedo, LambertianRecipeShowsItsAlbedo) {
     ASSERT_EQ(r.status, 0) << describe(r);
     std::vector<std::string> lines = table_lines(r.out);
     ASSERT_EQ(lines.size(), 4u) << describe(r);
-    EXPECT_EQ(tokens(lines[0]), (std::vector<std::string>{"theta", "450nm", "550nm", "650nm"}));
-    EXPECT_EQ(tokens(lines[3]), (std::vector<std::string>{"89", "0.50000", "0.50000", "0.50000"}));
+    EXPECT_EQ(words_of(lines[0]), (std::vector<std::string>{"theta", "450nm", "550nm", "650nm"}));
+    EXPECT_EQ(words_of(lines[3]), (std::vector<std::string>{"89", "0.50000", "0.50000", "0.50000"}));
 
     r = albedo({files().lambert05, "--theta", "45", "--samples", "8"});
     ASSERT_EQ(r.status, 0) << describe(r);
     EXPECT_TRUE(contains(r.out, "# channels:  195 wavelengths 360 .. 1000 nm")) << describe(r);
     lines = table_lines(r.out);
     ASSERT_EQ(lines.size(), 2u) << describe(r);
-    EXPECT_EQ(tokens(lines[0]), (std::vector<std::string>{"theta", "Y", "min", "max"}));
-    EXPECT_EQ(tokens(lines[1]), (std::vector<std::string>{"45", "0.50000", "0.50000", "0.50000"}));
+    EXPECT_EQ(words_of(lines[0]), (std::vector<std::string>{"theta", "Y", "min", "max"}));
+    EXPECT_EQ(words_of(lines[1]), (std::vector<std::string>{"45", "0.50000", "0.50000", "0.50000"}));
 }
 
 TEST(CliAlbedo, MaterialAgainstItselfDiffersByZero) {
@@ -118,12 +110,12 @@ TEST(CliAlbedo, MaterialAgainstItselfDiffersByZero) {
     ASSERT_EQ(r.status, 0) << describe(r);
     const std::vector<std::string> lines = table_lines(r.out);
     ASSERT_EQ(lines.size(), 13u) << describe(r);
-    EXPECT_EQ(tokens(lines[0]),
+    EXPECT_EQ(words_of(lines[0]),
               (std::vector<std::string>{"theta", "400nm", "500nm", "600nm", "700nm", "|", "ref", "400nm", "ref",
                                         "500nm", "ref", "600nm", "ref", "700nm", "|", "diff", "400nm", "diff",
                                         "500nm", "diff", "600nm", "diff", "700nm"}));
     for (std::size_t k = 1; k < lines.size(); ++k) {
-        const std::vector<std::string> t = tokens(lines[k]);
+        const std::vector<std::string> t = words_of(lines[k]);
         ASSERT_EQ(t.size(), 15u) << lines[k];
         for (std::size_t c = 1; c <= 4; ++c) EXPECT_EQ(t[c], t[c + 5]) << lines[k];
         for (std::size_t c = 11; c < 15; ++c) EXPECT_EQ(t[c], "+0.00%") << lines[k];
@@ -143,7 +135,7 @@ TEST(CliAlbedo, TwoLambertiansDifferByTheirRatio) {
     ASSERT_EQ(r.status, 0) << describe(r);
     const std::vector<std::string> lines = table_lines(r.out);
     ASSERT_EQ(lines.size(), 3u) << describe(r);
-    EXPECT_EQ(tokens(lines[2]), (std::vector<std::string>{"89", "0.50000", "0.50000", "|", "0.40000", "0.40000", "|",
+    EXPECT_EQ(words_of(lines[2]), (std::vector<std::string>{"89", "0.50000", "0.50000", "|", "0.40000", "0.40000", "|",
                                                           "+25.00%", "+25.00%"}));
     EXPECT_TRUE(contains(r.out, "worst relative difference: +25.00% +- 0.00% (")) << describe(r);
 
@@ -176,18 +168,18 @@ TEST(CliAlbedo, AnisotropicMaterialsGetAzimuthRows) {
     ASSERT_EQ(r.status, 0) << describe(r);
     std::vector<std::string> lines = table_lines(r.out);
     ASSERT_EQ(lines.size(), 9u) << describe(r);
-    EXPECT_EQ(tokens(lines[0]), (std::vector<std::string>{"theta", "phi", "R", "G", "B"}));
+    EXPECT_EQ(words_of(lines[0]), (std::vector<std::string>{"theta", "phi", "R", "G", "B"}));
     const char* phis[] = {"0", "90", "180", "270"};
     for (std::size_t k = 1; k < lines.size(); ++k) {
-        EXPECT_EQ(tokens(lines[k])[0], k <= 4 ? "30" : "70") << lines[k];
-        EXPECT_EQ(tokens(lines[k])[1], phis[(k - 1) % 4]) << lines[k];
+        EXPECT_EQ(words_of(lines[k])[0], k <= 4 ? "30" : "70") << lines[k];
+        EXPECT_EQ(words_of(lines[k])[1], phis[(k - 1) % 4]) << lines[k];
     }
 
     r = albedo({files().aniso_rgb, "--theta", "60", "--azimuths", "2", "--samples", "8"});
     ASSERT_EQ(r.status, 0) << describe(r);
     lines = table_lines(r.out);
     ASSERT_EQ(lines.size(), 3u) << describe(r);
-    EXPECT_EQ(tokens(lines[2])[1], "180");
+    EXPECT_EQ(words_of(lines[2])[1], "180");
 
     // An isotropic material compared with an anisotropic one gets the azimuths too.
     r = albedo({files().iso_rgb, "--against", files().aniso_rgb, "--theta", "60", "--samples", "8"});
@@ -203,7 +195,7 @@ TEST(CliAlbedo, RgbMaterialAgainstAnalyticRecipeComparesInRgb) {
     EXPECT_TRUE(contains(r.out, "# channels:  R G B\n")) << describe(r);
     const std::vector<std::string> lines = table_lines(r.out);
     ASSERT_EQ(lines.size(), 2u) << describe(r);
-    EXPECT_EQ(tokens(lines[1])[5], "0.50008");  // the RGB of a constant 0.5 spectrum (D65 white, see spectrum.h)
+    EXPECT_EQ(words_of(lines[1])[5], "0.50008");  // the RGB of a constant 0.5 spectrum (D65 white, see spectrum.h)
 }
 
 struct ErrorCase {
@@ -271,7 +263,7 @@ TEST(CliAlbedo, RealMeasuredMaterial) {
     ASSERT_EQ(lines.size(), 4u) << describe(r);
     for (std::size_t k = 1; k < lines.size(); ++k) {
         for (std::size_t c = 1; c < 4; ++c) {
-            const double v = std::strtod(tokens(lines[k])[c].c_str(), nullptr);
+            const double v = std::strtod(words_of(lines[k])[c].c_str(), nullptr);
             EXPECT_GT(v, 0.7) << lines[k];
             EXPECT_LT(v, 1.05) << lines[k];
         }

@@ -1,6 +1,7 @@
 // End-to-end test of `npf compare`: the built tool on OpenEXR pairs with known answers (identical,
 // a constant offset, alpha coverage), its JSON output, the heatmap PNG, and the errors (status 1,
 // a message naming the file, nothing written).
+#include "cli_run.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -16,21 +17,11 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::has_line;
-using npf::testing::ToolRun;
-
-void write_exr(const std::string& path, const std::vector<float>& pixels, int width, int height, int channels) {
-    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeFloat);
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out && out->open(path, spec) && out->write_image(OIIO::TypeFloat, pixels.data()) && out->close())
-        << OIIO::geterror();
-}
+using namespace npf::testing;  // run_tool, describe, contains, ...
 
 std::string constant_exr(const std::string& dir, const std::string& name, float value, int width = 12, int height = 11) {
     const std::string path = (fs::path(dir) / name).string();
-    write_exr(path, std::vector<float>(std::size_t(width * height * 3), value), width, height, 3);
+    write_float_exr(path, std::vector<float>(std::size_t(width * height * 3), value), width, height, 3);
     return path;
 }
 
@@ -99,8 +90,8 @@ TEST(CliCompare, AlphaCoverageAndHeatmap) {
             test_px.insert(test_px.end(), {t, t, t, a});
         }
     const std::string ref = (fs::path(dir) / "ref.exr").string(), test = (fs::path(dir) / "test.exr").string();
-    write_exr(ref, ref_px, 12, 12, 4);
-    write_exr(test, test_px, 12, 12, 4);
+    write_float_exr(ref, ref_px, 12, 12, 4);
+    write_float_exr(test, test_px, 12, 12, 4);
     const std::string png = (fs::path(dir) / "heat.png").string();
     const ToolRun r = npf::testing::run_tool({"compare", ref, test, "--heatmap", png});
     ASSERT_EQ(r.status, 0) << describe(r);
@@ -155,13 +146,13 @@ TEST(CliCompare, ErrorsNameTheFile) {
     const std::string nan = (fs::path(dir) / "nan.exr").string();
     std::vector<float> px(12 * 11 * 3, 0.2f);
     px[(1 * 12 + 2) * 3 + 2] = std::nanf("");
-    write_exr(nan, px, 12, 11, 3);
+    write_float_exr(nan, px, 12, 11, 3);
     r = npf::testing::run_tool({"compare", ref, nan});
     EXPECT_EQ(r.status, 1) << describe(r);
     EXPECT_TRUE(contains(r.err, "npf compare: error: " + nan + ": pixel (2, 1) channel B is NaN")) << describe(r);
 
     const std::string rgba = (fs::path(dir) / "rgba.exr").string();
-    write_exr(rgba, std::vector<float>(12 * 11 * 4, 1.f), 12, 11, 4);
+    write_float_exr(rgba, std::vector<float>(12 * 11 * 4, 1.f), 12, 11, 4);
     r = npf::testing::run_tool({"compare", ref, rgba});
     EXPECT_EQ(r.status, 1) << describe(r);
     EXPECT_TRUE(contains(r.err, rgba + ": has 4 channels")) << describe(r);

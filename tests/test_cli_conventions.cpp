@@ -1,6 +1,7 @@
 // The command-line conventions every npf subcommand shares (README "Exit status"): --version,
 // usage errors as one line on stderr, --help on stdout, "--" ending the options, flag order,
 // and the --json forms of info and eval carrying what their text carries.
+#include "cli_run.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -20,10 +21,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::lines_of;
-using npf::testing::ToolRun;
+using namespace npf::testing;  // run_tool, describe, contains, ...
 
 // main.cpp's table.
 const std::vector<std::string> kCommands = {"info",   "eval",   "convert", "synth",   "bench", "display",
@@ -31,8 +29,6 @@ const std::vector<std::string> kCommands = {"info",   "eval",   "convert", "synt
 
 // Unknown options keep the status 1 that existing tests pin (command_line.h, kOptionErrorStatus).
 constexpr int kOptionErrorStatus = 1;
-
-std::string recipe(const std::string& name) { return std::string(NPF_SOURCE_DIR) + "/configs/materials/" + name + ".yaml"; }
 
 std::string project_version() {
     const std::string text = npf::testing::read_text(std::string(NPF_SOURCE_DIR) + "/CMakeLists.txt");
@@ -117,7 +113,7 @@ TEST(CliConventions, EveryCommandReportsUsageErrorsInOneLine) {
 
 // cmd_convert.cpp follows once its flag table settles (it still prints the usage itself).
 TEST(CliConventions, ConvertMissingOutputIsAUsageError) {
-    expect_usage_line(npf::testing::run_tool({"convert", recipe("red_plastic")}), "convert", 2);
+    expect_usage_line(npf::testing::run_tool({"convert", material_recipe("red_plastic")}), "convert", 2);
 }
 
 TEST(CliConventions, BareCommandShowsUsageAndTheError) {
@@ -129,7 +125,7 @@ TEST(CliConventions, BareCommandShowsUsageAndTheError) {
 
 TEST(CliConventions, DoubleDashEndsTheOptions) {
     const std::string dir = npf::testing::temporary_folder("cli_conventions_dash");
-    fs::copy_file(recipe("red_plastic"), dir + "/-x.yaml", fs::copy_options::overwrite_existing);
+    fs::copy_file(material_recipe("red_plastic"), dir + "/-x.yaml", fs::copy_options::overwrite_existing);
     npf::testing::ToolRunOptions in_dir;
     in_dir.working_dir = dir;
     const ToolRun info = npf::testing::run_tool({"info", "--", "-x.yaml"}, in_dir);
@@ -172,8 +168,44 @@ TEST(CliConventions, CommandLineKeepsFlagOrder) {
     EXPECT_THROW(CommandLine("test", {"x"}, flags).require("-o"), npf::cli::UsageError);
 }
 
+// A flag table reads as the help it prints; a named value is one of its names, or an error that
+// names the flag; --help is every command's and answered by main.
+TEST(CliConventions, FlagTableAndChoices) {
+    using npf::cli::CommandLine;
+    const std::vector<npf::cli::FlagSpec> flags = npf::cli::flag_table({
+        "-o VALUE  output file",
+        "--json  print JSON",
+        "--mode VALUE  fast or slow, with a  double space",
+    });
+    ASSERT_EQ(flags.size(), 3u);
+    EXPECT_EQ(flags[0].name, "-o");
+    EXPECT_TRUE(flags[0].takes_value);
+    EXPECT_EQ(flags[0].help, "output file");
+    EXPECT_EQ(flags[1].name, "--json");
+    EXPECT_FALSE(flags[1].takes_value);
+    EXPECT_EQ(flags[2].help, "fast or slow, with a  double space");
+
+    const std::vector<std::pair<std::string, int>> modes = {{"fast", 1}, {"slow", 2}};
+    EXPECT_EQ(CommandLine("test", {}, flags).choice("--mode", modes, 0, "is not fast or slow"), 0);
+    EXPECT_EQ(CommandLine("test", {"--mode", "slow"}, flags).choice("--mode", modes, 0, "is not fast or slow"), 2);
+    try {
+        CommandLine("test", {"--mode=quick"}, flags).choice("--mode", modes, 0, "is not fast or slow");
+        ADD_FAILURE() << "no error for an unknown name";
+    } catch (const npf::Error& e) {
+        EXPECT_STREQ(e.what(), "--mode: 'quick' is not fast or slow");
+    }
+    EXPECT_TRUE(npf::cli::read_command_line("", flags, {"--json"}).has("--json"));
+    try {
+        npf::cli::read_command_line("usage: test\n\n", flags, {"--help"});
+        ADD_FAILURE() << "no help for --help";
+    } catch (const npf::cli::HelpRequest& help) {
+        EXPECT_EQ(help.text.rfind("usage: test\n\n  -o VALUE", 0), 0u) << help.text;
+        EXPECT_TRUE(contains(help.text, "\n  --help                 show this help\n")) << help.text;
+    }
+}
+
 TEST(CliConventions, InfoJsonCarriesTheTextsContent) {
-    const std::vector<std::string> files = {recipe("brushed_copper"), recipe("red_plastic")};
+    const std::vector<std::string> files = {material_recipe("brushed_copper"), material_recipe("red_plastic")};
     const ToolRun text = npf::testing::run_tool({"info", files[0], files[1]});
     const ToolRun json = npf::testing::run_tool({"info", "--json", files[0], files[1]});
     ASSERT_EQ(text.status, 0) << describe(text);
@@ -205,7 +237,7 @@ print('\n'.join(out))
 TEST(CliConventions, EvalJsonCarriesTheTextsNumbers) {
     npf::testing::ToolRunOptions pairs;
     pairs.stdin_text = "0 0 1 0.5 0 0.866\n0.3 0.1 0.9 -0.2 0.4 0.8\n0 0 1 0 0 -1\n";
-    const std::vector<std::string> args = {"eval", recipe("brushed_copper"), "--wavelengths", "450,550,650", "--pdf"};
+    const std::vector<std::string> args = {"eval", material_recipe("brushed_copper"), "--wavelengths", "450,550,650", "--pdf"};
     const ToolRun text = npf::testing::run_tool(args, pairs);
     std::vector<std::string> json_args = args;
     json_args.push_back("--json");

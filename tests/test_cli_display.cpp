@@ -1,6 +1,7 @@
 // End-to-end test of `npf display`: the built tool turns a linear and an XYZ OpenEXR image into
 // display-encoded PNGs through the shipped OCIO config, lists the config's displays, and fails
 // with status 1, a message naming the config and no file left behind for an unknown display.
+#include "cli_run.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -17,18 +18,9 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::ToolRun;
+using namespace npf::testing;  // run_tool, describe, contains, ...
 
 const std::string kConfig = std::string(NPF_SOURCE_DIR) + "/configs/ocio/config.ocio";
-
-void write_exr(const std::string& path, const std::vector<float>& rgb, int width) {
-    OIIO::ImageSpec spec(width, 1, 3, OIIO::TypeFloat);
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out && out->open(path, spec) && out->write_image(OIIO::TypeFloat, rgb.data()) && out->close())
-        << OIIO::geterror();
-}
 
 std::vector<unsigned char> read_png(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
@@ -49,8 +41,8 @@ TEST(CliDisplay, LinearAndXyzImagesToPng) {
     const npf::color::Xyz grey = npf::color::linear_srgb_to_xyz({0.18, 0.18, 0.18});
     const npf::color::Xyz white = npf::color::spectrum_to_xyz(npf::color::SampledSpectrum::constant(1.0));
     const std::string linear = (fs::path(dir) / "linear.exr").string(), xyz = (fs::path(dir) / "xyz.exr").string();
-    write_exr(linear, {0.18f, 0.18f, 0.18f, 1.0f, 1.0f, 1.0f}, 2);
-    write_exr(xyz, {float(grey[0]), float(grey[1]), float(grey[2]), float(white[0]), float(white[1]), float(white[2])}, 2);
+    write_float_exr(linear, {0.18f, 0.18f, 0.18f, 1.0f, 1.0f, 1.0f}, 2, 1, 3);
+    write_float_exr(xyz, {float(grey[0]), float(grey[1]), float(grey[2]), float(white[0]), float(white[1]), float(white[2])}, 2, 1, 3);
 
     for (const auto& [input, from] : {std::pair{linear, "linear"}, std::pair{xyz, "xyz"}}) {
         const std::string png = (fs::path(dir) / (std::string(from) + ".png")).string();

@@ -24,10 +24,7 @@
 namespace {
 
 using npf::Vec3;
-using npf::testing::contains;
-using npf::testing::describe;
-using npf::testing::folder_entries;
-using npf::testing::ToolRun;
+using namespace npf::testing;  // run_tool, describe, contains, ...
 
 // The small grid every run uses: 5 phi_i x 4 theta_i, 8 x 32 NDF, 24 x 24 VNDF, 8 x 8 data.
 const std::vector<std::string> kSmallGrid = {"--phi", "5",   "--theta", "4",  "--vndf",     "24",
@@ -49,8 +46,6 @@ ToolRun synth(const std::vector<std::string>& args, const std::string& threads =
     return npf::testing::run_tool(all, options);
 }
 
-using npf::testing::has_line;
-using npf::testing::lines_of;
 
 // `npf info path`, checked to succeed.
 std::string info(const std::string& path) {

@@ -30,12 +30,8 @@
 namespace {
 
 namespace fs = std::filesystem;
-using npf::testing::contains;
-using npf::testing::error_of;
-using npf::testing::describe;
-using npf::testing::run_tool;
-using npf::testing::ToolRun;
-using Fields = std::vector<npf::testing::SyntheticField>;
+using namespace npf::testing;  // run_tool, describe, contains, ...
+using Fields = std::vector<SyntheticField>;
 
 const std::string& folder() {
     static const std::string dir = npf::testing::temporary_folder("hostile-cli");

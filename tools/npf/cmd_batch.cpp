@@ -24,22 +24,34 @@ namespace npf::cli {
 
 namespace {
 
-const std::vector<FlagSpec> kFlags = {
-    {"--shard", true, "K/N: run only shard K of N (0-based; material i of the name-sorted list goes to shard i mod N)"},
-    {"--summary", true, "summary base name (writes BASE.json and BASE.md; default from the config)"},
-    {"--force", false, "redo every material, whatever its content hash says"},
-    {"--threads", true, "threads per material, overriding the configuration (changes the output's rounding)"},
-    {"--memory-limit", true, "SIZE: memory limit of each material's worker process, overriding the configuration (8 GiB, none)"},
-    {"--time-limit", true, "SECONDS: wall time limit of each material's worker process, overriding the configuration (3600, 2 h, none)"},
-    {"--in-process", false, "convert in this process: no worker processes, no limits (a crash ends the batch; for debuggers)"},
-    {"--worker-executable", true, "PROGRAM: each material's worker process runs PROGRAM batch --worker JOB instead of this npf "
-                                  "(a wrapper, or the tests' fault-injecting worker)"},
-    {"--check", false, "only read and check the configuration; list the materials of the shard"},
-    {"--merge", false, "merge shard summaries: npf batch --merge S1.json S2.json ... [-o MERGED]"},
-    {"-o", true, "with --merge: base name of the merged summary (default: batch-summary beside the first)"},
-    {"--quiet", false, "no line per material"},
-    {"--help", false, "show this help"},
-};
+const std::vector<FlagSpec> kFlags = flag_table({
+    "--shard VALUE  K/N: run only shard K of N (0-based; material i of the name-sorted list goes to shard i mod N)",
+    "--summary VALUE  summary base name (writes BASE.json and BASE.md; default from the config)",
+    "--force  redo every material, whatever its content hash says",
+    "--threads VALUE  threads per material, overriding the configuration (changes the output's rounding)",
+    "--memory-limit VALUE  SIZE: memory limit of each material's worker process, overriding the configuration (8 GiB, none)",
+    "--time-limit VALUE  SECONDS: wall time limit of each material's worker process, overriding the configuration (3600, 2 h, none)",
+    "--in-process  convert in this process: no worker processes, no limits (a crash ends the batch; for debuggers)",
+    "--worker-executable VALUE  PROGRAM: each material's worker process runs PROGRAM batch --worker JOB instead of this "
+    "npf (a wrapper, or the tests' fault-injecting worker)",
+    "--check  only read and check the configuration; list the materials of the shard",
+    "--merge  merge shard summaries: npf batch --merge S1.json S2.json ... [-o MERGED]",
+    "-o VALUE  with --merge: base name of the merged summary (default: batch-summary beside the first)",
+    "--quiet  no line per material",
+});
+
+const char* kHelp =
+    "usage: npf batch CONFIG.yaml [--shard K/N] [--summary BASE] [--force] [--threads N] [--check] [--quiet]\n"
+    "                 [--memory-limit SIZE] [--time-limit SECONDS] [--in-process | --worker-executable PROGRAM]\n"
+    "       npf batch --merge SUMMARY.json... [-o BASE]\n\n"
+    "Converts every material a YAML configuration names (inputs, defaults, per-material overrides,\n"
+    "edits, validation renders; docs/batch.md, configs/batch/example.yaml). An output whose content\n"
+    "hash (input bytes, resolved settings, edit recipe, npf version) matches is skipped; outputs\n"
+    "appear only when complete, so an interrupted batch resumes where it stopped. A material that\n"
+    "fails (even by crashing: each material is converted in a process of its own, under memory and\n"
+    "time limits) is reported and the others go on. Writes BASE.json and BASE.md summaries.\n"
+    "Exit status: 0 all materials converted or up to date; 4 some failed (or, merging, a shard is\n"
+    "missing); 1 the batch could not run (configuration, output folder).\n\n";
 
 // Exit status when the batch ran but some materials failed.
 constexpr int kSomeFailed = 4;
@@ -157,22 +169,7 @@ int run_batch(const std::vector<std::string>& args) {
         if (args.size() != 2) throw Error("--worker", "expects one job file");
         return batch::run_batch_worker(args[1]);
     }
-    CommandLine cl("batch", args, kFlags);
-    if (cl.has("--help")) {
-        std::printf("usage: npf batch CONFIG.yaml [--shard K/N] [--summary BASE] [--force] [--threads N] [--check] [--quiet]\n"
-                    "                 [--memory-limit SIZE] [--time-limit SECONDS] [--in-process]\n"
-                    "       npf batch --merge SUMMARY.json... [-o BASE]\n\n"
-                    "Converts every material a YAML configuration names (inputs, defaults, per-material overrides,\n"
-                    "edits, validation renders; docs/batch.md, configs/batch/example.yaml). An output whose content\n"
-                    "hash (input bytes, resolved settings, edit recipe, npf version) matches is skipped; outputs\n"
-                    "appear only when complete, so an interrupted batch resumes where it stopped. A material that\n"
-                    "fails (even by crashing: each material is converted in a process of its own, under memory and\n"
-                    "time limits) is reported and the others go on. Writes BASE.json and BASE.md summaries.\n"
-                    "Exit status: 0 all materials converted or up to date; 4 some failed (or, merging, a shard is\n"
-                    "missing); 1 the batch could not run (configuration, output folder).\n\n%s",
-                    usage_lines(kFlags).c_str());
-        return 0;
-    }
+    const CommandLine cl = read_command_line(kHelp, kFlags, args);
     if (!cl.has("--merge")) cl.expect_positional(1, 1, "one CONFIG.yaml");
     if (cl.has("--merge")) return run_merge(cl);
 

@@ -7,6 +7,7 @@
 #include <npf/core/number_text.h>
 #include "commands.h"
 #include "file_uses.h"
+#include "scene_space_flag.h"
 
 #include <npf/color/display_image.h>
 #include <npf/core/atomic_file.h>
@@ -28,16 +29,15 @@ namespace npf::cli {
 
 namespace {
 
-const std::vector<FlagSpec> kFlags = {
-    {"--heatmap", true, "also write the per-pixel relMSE as a PNG: blue 0, red 5 % and above, black not compared"},
-    {"--heatmap-max", true, "relMSE shown red in the heatmap (default 0.05)"},
-    {"--json", false, "print one JSON object instead of the lines"},
-    {"--from", true, "what both images hold: linear (Rec.709 / sRGB primaries, default) or xyz (CIE XYZ D65)"},
-    {"--all-pixels", false, "compare every pixel, also those with alpha 0 in both images"},
-    {"--floor", true, "REF2.exr [TEST2.exr]: the pair (or the reference alone) at a second seed: the PSNR's "
-                      "noise floor"},
-    {"--help", false, "show this help"},
-};
+const std::vector<FlagSpec> kFlags = flag_table({
+    "--heatmap VALUE  also write the per-pixel relMSE as a PNG: blue 0, red 5 % and above, black not compared",
+    "--heatmap-max VALUE  relMSE shown red in the heatmap (default 0.05)",
+    "--json  print one JSON object instead of the lines",
+    "--from VALUE  what both images hold: linear (Rec.709 / sRGB primaries, default) or xyz (CIE XYZ D65)",
+    "--all-pixels  compare every pixel, also those with alpha 0 in both images",
+    "--floor VALUE  REF2.exr [TEST2.exr]: the pair (or the reference alone) at a second seed: the PSNR's "
+    "noise floor",
+});
 
 const char* kHelp =
     "usage: npf compare REF.exr TEST.exr [--floor REF2.exr [TEST2.exr]] [--heatmap OUT.png] [--heatmap-max V]\n"
@@ -125,27 +125,83 @@ FloorArguments take_floor_images(const std::vector<std::string>& args) {
     return out;
 }
 
+// What npf compare found, for printing.
+struct CompareResult {
+    std::string reference_path, test_path;
+    std::optional<std::string> heatmap;  // the relMSE heatmap written, if any
+    double heatmap_max;
+    std::vector<std::string> floor_images;
+    render::Coverage coverage;
+    render::ImageMetrics metrics;
+    std::optional<render::NoiseFloor> floor;
+};
+
+// --json: one object with the metrics, the heatmap's file and the floor.
+void print_json(const CompareResult& c) {
+    const render::ImageMetrics& m = c.metrics;
+    const std::optional<render::NoiseFloor>& floor = c.floor;
+    std::printf("{\"reference\": %s, \"test\": %s, \"PSNR\": %s, \"SSIM\": %s, \"relMSE\": %s, \"MAPE\": %s, "
+                "\"pixels\": %zu, \"pixels_total\": %zu, \"ssim_pixels\": %zu, \"coverage\": \"%s\", "
+                "\"mse_display\": %s",
+                json_string(c.reference_path).c_str(), json_string(c.test_path).c_str(), metric_json(m.psnr).c_str(),
+                metric_json(m.ssim).c_str(), metric_json(m.relmse).c_str(), metric_json(m.mape).c_str(), m.pixels,
+                m.pixels_total, m.ssim_pixels, c.coverage == render::Coverage::Alpha ? "alpha" : "all",
+                metric_json(m.mse_display).c_str());
+    if (c.heatmap)
+        std::printf(", \"heatmap\": %s, \"heatmap_max\": %s", json_string(*c.heatmap).c_str(),
+                    metric_json(c.heatmap_max).c_str());
+    if (floor) {
+        std::printf(", \"noise_floor_db\": %s, \"noise_floor_kind\": \"%s\", \"mse_display_noise\": %s, "
+                    "\"noise_limited\": %s, \"floor_reference\": %s",
+                    metric_json(floor->psnr).c_str(), render::noise_floor_kind_name(floor->kind),
+                    metric_json(floor->mse_noise).c_str(), render::noise_limited(m, *floor) ? "true" : "false",
+                    json_string(c.floor_images[0]).c_str());
+        if (c.floor_images.size() == 2)
+            std::printf(", \"floor_test\": %s", json_string(c.floor_images[1]).c_str());
+    }
+    std::printf("}\n");
+}
+
+// One metric per line, then the floor and, for a reader, what the gap between them means.
+void print_text(const CompareResult& c) {
+    const render::ImageMetrics& m = c.metrics;
+    const std::optional<render::NoiseFloor>& floor = c.floor;
+    std::printf("PSNR %s\nSSIM %s\nrelMSE %s\nMAPE %s\npixels %zu\npixels_total %zu\nssim_pixels %zu\n",
+                format_number(m.psnr).c_str(), format_number(m.ssim).c_str(), format_number(m.relmse).c_str(),
+                format_number(m.mape).c_str(), m.pixels, m.pixels_total, m.ssim_pixels);
+    if (floor) {
+        const bool limited = render::noise_limited(m, *floor);
+        std::printf("noise_floor_db %s\nnoise_floor_kind %s\nnoise_limited %s\n",
+                    format_number(floor->psnr).c_str(), render::noise_floor_kind_name(floor->kind),
+                    limited ? "yes" : "no");
+        // For a reader: the PSNR beside its floor, and what follows from the gap.
+        std::string verdict = "the PSNR measures the materials' difference (less than half of its error is seed "
+                              "noise)";
+        if (limited) {
+            verdict = std::string(m.psnr >= floor->psnr ? "at or above the floor"
+                                                         : "less than 3 dB below the floor") +
+                      ", so at least half of the measured error is seed noise; the PSNR measures the renders' "
+                      "noise, not the materials";
+            // The reference floor assumes independent noise; a same-seed pair has less.
+            if (floor->kind == render::NoiseFloorKind::Reference)
+                verdict += " (if TEST was rendered at REF's seed, the paired floor, --floor REF2.exr TEST2.exr, "
+                           "sees less noise)";
+        }
+        std::printf("summary: PSNR %.2f dB, noise floor %.2f dB (%s): %s\n", m.psnr, floor->psnr,
+                    render::noise_floor_kind_name(floor->kind), verdict.c_str());
+    }
+}
+
 }  // namespace
 
 int run_compare(const std::vector<std::string>& args) {
     const FloorArguments floor_args = take_floor_images(args);
-    CommandLine cl("compare", floor_args.rest, kFlags);
-    if (!floor_args.images.empty() && !cl.has("--help") && cl.positional().size() == 1)
+    const CommandLine cl = read_command_line(kHelp, kFlags, floor_args.rest);
+    if (!floor_args.images.empty() && cl.positional().size() == 1)
         throw Error("--floor", "takes the one or two images right after it; give REF.exr TEST.exr before --floor");
-    if (cl.has("--help")) {
-        std::printf("%s%s", kHelp, usage_lines(kFlags).c_str());
-        return 0;
-    }
     cl.expect_positional(2, 2, "two images REF.exr TEST.exr");
     render::MetricOptions options;
-    const std::string from = cl.value("--from", "linear");
-    if (from == "linear") {
-        options.input = color::SceneSpace::LinearRec709;
-    } else if (from == "xyz") {
-        options.input = color::SceneSpace::CieXyzD65;
-    } else {
-        throw Error("--from", "'" + from + "' is neither linear nor xyz");
-    }
+    options.input = scene_space_flag(cl);
     options.coverage = cl.has("--all-pixels") ? render::Coverage::AllPixels : render::Coverage::Alpha;
     const double heatmap_max =
         cl.has("--heatmap-max") ? parse_heatmap_max(cl.value("--heatmap-max")) : render::kHeatmapMax;
@@ -181,52 +237,13 @@ int run_compare(const std::vector<std::string>& args) {
         render::write_relmse_heatmap(cl.value("--heatmap"), map, heatmap_max);
     }
 
+    const std::optional<std::string> heatmap = cl.has("--heatmap") ? std::optional<std::string>(cl.value("--heatmap")) : std::nullopt;
+    const CompareResult result{reference_path, test_path, heatmap, heatmap_max, floor_args.images,
+                               options.coverage, m, floor};
     if (cl.has("--json")) {
-        std::printf("{\"reference\": %s, \"test\": %s, \"PSNR\": %s, \"SSIM\": %s, \"relMSE\": %s, \"MAPE\": %s, "
-                    "\"pixels\": %zu, \"pixels_total\": %zu, \"ssim_pixels\": %zu, \"coverage\": \"%s\", "
-                    "\"mse_display\": %s",
-                    json_string(reference_path).c_str(), json_string(test_path).c_str(), metric_json(m.psnr).c_str(),
-                    metric_json(m.ssim).c_str(), metric_json(m.relmse).c_str(), metric_json(m.mape).c_str(), m.pixels,
-                    m.pixels_total, m.ssim_pixels, options.coverage == render::Coverage::Alpha ? "alpha" : "all",
-                    metric_json(m.mse_display).c_str());
-        if (cl.has("--heatmap"))
-            std::printf(", \"heatmap\": %s, \"heatmap_max\": %s", json_string(cl.value("--heatmap")).c_str(),
-                        metric_json(heatmap_max).c_str());
-        if (floor) {
-            std::printf(", \"noise_floor_db\": %s, \"noise_floor_kind\": \"%s\", \"mse_display_noise\": %s, "
-                        "\"noise_limited\": %s, \"floor_reference\": %s",
-                        metric_json(floor->psnr).c_str(), render::noise_floor_kind_name(floor->kind),
-                        metric_json(floor->mse_noise).c_str(), render::noise_limited(m, *floor) ? "true" : "false",
-                        json_string(floor_args.images[0]).c_str());
-            if (floor_args.images.size() == 2)
-                std::printf(", \"floor_test\": %s", json_string(floor_args.images[1]).c_str());
-        }
-        std::printf("}\n");
+        print_json(result);
     } else {
-        std::printf("PSNR %s\nSSIM %s\nrelMSE %s\nMAPE %s\npixels %zu\npixels_total %zu\nssim_pixels %zu\n",
-                    format_number(m.psnr).c_str(), format_number(m.ssim).c_str(), format_number(m.relmse).c_str(),
-                    format_number(m.mape).c_str(), m.pixels, m.pixels_total, m.ssim_pixels);
-        if (floor) {
-            const bool limited = render::noise_limited(m, *floor);
-            std::printf("noise_floor_db %s\nnoise_floor_kind %s\nnoise_limited %s\n",
-                        format_number(floor->psnr).c_str(), render::noise_floor_kind_name(floor->kind),
-                        limited ? "yes" : "no");
-            // For a reader: the PSNR beside its floor, and what follows from the gap.
-            std::string verdict = "the PSNR measures the materials' difference (less than half of its error is seed "
-                                  "noise)";
-            if (limited) {
-                verdict = std::string(m.psnr >= floor->psnr ? "at or above the floor"
-                                                             : "less than 3 dB below the floor") +
-                          ", so at least half of the measured error is seed noise; the PSNR measures the renders' "
-                          "noise, not the materials";
-                // The reference floor assumes independent noise; a same-seed pair has less.
-                if (floor->kind == render::NoiseFloorKind::Reference)
-                    verdict += " (if TEST was rendered at REF's seed, the paired floor, --floor REF2.exr TEST2.exr, "
-                               "sees less noise)";
-            }
-            std::printf("summary: PSNR %.2f dB, noise floor %.2f dB (%s): %s\n", m.psnr, floor->psnr,
-                        render::noise_floor_kind_name(floor->kind), verdict.c_str());
-        }
+        print_text(result);
     }
     return 0;
 }

@@ -27,7 +27,6 @@ std::vector<FlagSpec> convert_flags() {
         flags.push_back({setting_flag(row), row.kind != SettingKind::Switch, setting_help(row)});
     }
     flags.push_back({"--quiet", false, "no progress bar"});
-    flags.push_back({"--help", false, "show this help"});
     return flags;
 }
 
@@ -37,46 +36,29 @@ std::string megabytes(std::uint64_t bytes) {
     return b;
 }
 
-}  // namespace
+const char* kHelp =
+    "usage: npf convert IN -o OUT.exr [--preset preview|production|fine|paper] [settings]\n\n"
+    "Fits the NPF factors (paper Eq. 1) to a material: an RGL .bsdf, MERL .binary, NPF texture .exr\n"
+    "or Neural BRDF .h5 file, or an analytic recipe (.yaml, configs/materials/); compresses D and G\n"
+    "across wavelengths; writes the factor texture. Settings override the preset. Example:\n"
+    "  npf convert satin.bsdf -o satin.exr --preset production --wavelengths 380:780:81\n\n";
 
-int run_convert(const std::vector<std::string>& args) {
-    const std::vector<FlagSpec> flags = convert_flags();
-    CommandLine cl("convert", args, flags);
-    if (cl.has("--help")) {
-        std::printf("usage: npf convert IN -o OUT.exr [--preset preview|production|fine|paper] [settings]\n\n"
-                    "Fits the NPF factors (paper Eq. 1) to a material: an RGL .bsdf, MERL .binary, NPF texture .exr\n"
-                    "or Neural BRDF .h5 file, or an analytic recipe (.yaml, configs/materials/); compresses D and G\n"
-                    "across wavelengths; writes the factor texture. Settings override the preset. Example:\n"
-                    "  npf convert satin.bsdf -o satin.exr --preset production --wavelengths 380:780:81\n\n%s",
-                    usage_lines(flags).c_str());
-        return 0;
-    }
-    cl.expect_positional(1, 1, "one IN");
-    cl.require("-o");
-    const std::string input = cl.positional()[0], output = cl.value("-o");
-    // Every value is checked before the material is read: a bad flag fails at once.
-    const ConvertSettingsTable& table = convert_settings_table();
+// The settings given on the command line, each checked (a bad value fails before the material is
+// read), in the table's order; nothing for a setting not given.
+std::vector<std::optional<SettingValue>> given_settings(const CommandLine& cl, const ConvertSettingsTable& table) {
     std::vector<std::optional<SettingValue>> given;
     for (const ConvertSettingRow& row : table) {
         const std::string flag = setting_flag(row);
         if (!cl.has(flag)) given.emplace_back();
         else given.push_back(check_setting(row, row.kind == SettingKind::Switch ? "true" : cl.value(flag), flag));
     }
-    FileUses().input(input, "the input").output(output, "-o").check();
-    const std::unique_ptr<Brdf> source = open_material(input);
-    ConvertSettings s = resolve_convert_settings(
-        table, [&](const ConvertSettingRow& row) { return given[std::size_t(&row - table.data())]; },
-        [](const ConvertSettingRow& row) { return setting_flag(row); }, source->info().isotropic);
-    const ConvertPreset preset = s.preset;
+    return given;
+}
+
+// The fit: factors, ranks, size, errors against the source and the horizon.
+void print_fit(const ConvertReport& r, const ConvertSettings& s) {
     const AwlsOptions& o = s.fit;
-
-    check_output_path(output);  // a destination that cannot be written fails now, not after the fit
-    ProgressBar bar("convert " + output, !cl.has("--quiet"));
-    const ConvertReport r = convert_material(*source, output, s, [&bar](double f) { bar.update(f); });
-    bar.finish();
-
     const RusinkiewiczGrid& g = o.grid;
-    std::printf("wrote %s (%s preset)\n", output.c_str(), convert_preset_name(preset));
     std::printf("  factors     %s, %zu %s; D %dx%d, F %d, G %dx%d; %zu samples%s\n", r.isotropic ? "isotropic" : "anisotropic",
                 r.channels.size(), r.channels.is_rgb() ? "RGB channels" : "wavelengths", g.theta_h, r.isotropic ? 1 : g.phi_h,
                 g.theta_d, o.g_theta, r.isotropic ? 1 : o.g_phi, r.fit.samples,
@@ -111,6 +93,10 @@ int run_convert(const std::vector<std::string>& args) {
         std::printf("  horizon     G closed at the horizon in %d of %d columns (no light gained at grazing views)\n",
                     r.horizon_columns_closed, r.isotropic ? 1 : o.g_phi);
     }
+}
+
+// The detail layer, kept or not, and what it changed.
+void print_detail(const ConvertReport& r, const ConvertSettings& s) {
     if (r.detail_not_kept) {
         std::printf("  detail      fitted but not kept: held-out relative RMS of f_r cos %.4f with it, %.4f without (its\n"
                     "              residual has no phi_h axis; on anisotropic materials the average over phi_h can miss)\n",
@@ -128,6 +114,10 @@ int run_convert(const std::vector<std::string>& args) {
                         100.0 * r.detailed_error.mean_relative_rms, 100.0 * r.detailed_error.max_relative_rms);
         }
     }
+}
+
+// The energy check and the predicted render PSNR (per lighting for a set).
+void print_albedo_and_prediction(const ConvertReport& r) {
     std::printf("  albedo      at most %.3f (view %.0f deg, %s)\n", r.albedo_max, r.albedo_max_theta_deg,
                 r.channels.name(r.albedo_max_channel).c_str());
     std::printf("  energy      directional albedo within %.2f %% of the source's at 0..80 deg (worst at %.0f deg, %s)\n",
@@ -154,6 +144,10 @@ int run_convert(const std::vector<std::string>& args) {
                         floor_text(r.prediction.floor_psnr, r.prediction.noise_limited).c_str(), r.prediction_settings.c_str());
         }
     }
+}
+
+// --target-psnr: the candidates tried and whether the target was met.
+void print_target(const ConvertReport& r, const ConvertSettings& s) {
     if (s.target_psnr > 0.0) {
         std::string tried;
         for (const ConvertReport::TargetCandidate& c : r.target_candidates) {
@@ -170,6 +164,10 @@ int run_convert(const std::vector<std::string>& args) {
                          s.target_psnr, r.prediction.psnr);
         }
     }
+}
+
+// Where the result reflects more light than it receives: what to do about it.
+void print_albedo_warnings(const ConvertReport& r, const std::string& input, const std::string& output) {
     if (r.albedo_unbounded_at_horizon) {
         std::printf("  horizon     G's last rows extrapolate above 0 at the horizon: the albedo grows without bound in the\n"
                     "              last fraction of a degree (silhouettes); cap it: npf edit %s -o CAPPED.exr --limit-albedo 1\n",
@@ -181,12 +179,44 @@ int run_convert(const std::vector<std::string>& args) {
                              "cap it: npf edit %s -o CAPPED.exr --limit-albedo 1\n",
                      output.c_str(), r.albedo_max_theta_deg, r.albedo_max, output.c_str(), input.c_str(), output.c_str());
     }
+}
+
+void print_times(const ConvertReport& r) {
     int most = 0;
     for (int it : r.fit.iterations) most = std::max(most, it);
     std::printf("  time        %.1f s: resampling %.1f, fitting %.1f (%d sweeps at most), SVD %.1f, error %.1f, "
                 "prediction %.1f, writing %.1f; peak memory %.2f GiB\n",
                 r.seconds, r.fit.seconds_resampling, r.fit.seconds_fitting, most, r.seconds_compression, r.seconds_error,
                 r.seconds_prediction, r.seconds_writing, r.peak_memory_gib);
+}
+
+}  // namespace
+
+int run_convert(const std::vector<std::string>& args) {
+    const CommandLine cl = read_command_line(kHelp, convert_flags(), args);
+    cl.expect_positional(1, 1, "one IN");
+    cl.require("-o");
+    const std::string input = cl.positional()[0], output = cl.value("-o");
+    const ConvertSettingsTable& table = convert_settings_table();
+    const std::vector<std::optional<SettingValue>> given = given_settings(cl, table);
+    FileUses().input(input, "the input").output(output, "-o").check();
+    const std::unique_ptr<Brdf> source = open_material(input);
+    const ConvertSettings s = resolve_convert_settings(
+        table, [&](const ConvertSettingRow& row) { return given[std::size_t(&row - table.data())]; },
+        [](const ConvertSettingRow& row) { return setting_flag(row); }, source->info().isotropic);
+
+    check_output_path(output);  // a destination that cannot be written fails now, not after the fit
+    ProgressBar bar("convert " + output, !cl.has("--quiet"));
+    const ConvertReport r = convert_material(*source, output, s, [&bar](double f) { bar.update(f); });
+    bar.finish();
+
+    std::printf("wrote %s (%s preset)\n", output.c_str(), convert_preset_name(s.preset));
+    print_fit(r, s);
+    print_detail(r, s);
+    print_albedo_and_prediction(r);
+    print_target(r, s);
+    print_albedo_warnings(r, input, output);
+    print_times(r);
     return 0;
 }
 

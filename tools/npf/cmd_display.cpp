@@ -3,6 +3,7 @@
 #include "command_line.h"
 #include "commands.h"
 #include "file_uses.h"
+#include "scene_space_flag.h"
 
 #include <npf/color/display.h>
 #include <npf/color/display_image.h>
@@ -10,21 +11,28 @@
 #include <npf/core/error.h>
 
 #include <cstdio>
+#include <optional>
 #include <string>
 
 namespace npf::cli {
 
 namespace {
 
-const std::vector<FlagSpec> kFlags = {
-    {"-o", true, "output PNG (8-bit, display-encoded), required unless --list"},
-    {"--from", true, "what the input holds: linear (Rec.709 / sRGB primaries, default) or xyz (CIE XYZ D65)"},
-    {"--config", true, "OpenColorIO config (default: $OCIO, else the config npf ships)"},
-    {"--display", true, "display (default: the config's default)"},
-    {"--view", true, "view (default: the display's default)"},
-    {"--list", false, "print the config's displays and views and exit"},
-    {"--help", false, "show this help"},
-};
+const std::vector<FlagSpec> kFlags = flag_table({
+    "-o VALUE  output PNG (8-bit, display-encoded), required unless --list",
+    "--from VALUE  what the input holds: linear (Rec.709 / sRGB primaries, default) or xyz (CIE XYZ D65)",
+    "--config VALUE  OpenColorIO config (default: $OCIO, else the config npf ships)",
+    "--display VALUE  display (default: the config's default)",
+    "--view VALUE  view (default: the display's default)",
+    "--list  print the config's displays and views and exit",
+});
+
+const char* kHelp =
+    "usage: npf display IN.exr -o OUT.png [--from linear|xyz] [--config FILE] [--display NAME]\n"
+    "                   [--view NAME]\n"
+    "       npf display --list [--config FILE]\n\n"
+    "Writes a scene-referred image (any file OpenImageIO reads; its first three channels, and\n"
+    "alpha) as an 8-bit PNG through an OpenColorIO display and view (docs/color.md).\n\n";
 
 int list(const std::string& config) {
     const std::vector<color::DisplayViews> displays = color::list_display_views(config);  // may throw
@@ -42,28 +50,12 @@ int list(const std::string& config) {
 }  // namespace
 
 int run_display(const std::vector<std::string>& args) {
-    CommandLine cl("display", args, kFlags);
-    if (cl.has("--list") && !cl.has("--help")) return list(cl.value("--config"));
-    if (cl.has("--help")) {
-        std::printf("usage: npf display IN.exr -o OUT.png [--from linear|xyz] [--config FILE] [--display NAME]\n"
-                    "                   [--view NAME]\n"
-                    "       npf display --list [--config FILE]\n\n"
-                    "Writes a scene-referred image (any file OpenImageIO reads; its first three channels, and\n"
-                    "alpha) as an 8-bit PNG through an OpenColorIO display and view (docs/color.md).\n\n%s",
-                    usage_lines(kFlags).c_str());
-        return 0;
-    }
+    const CommandLine cl = read_command_line(kHelp, kFlags, args);
+    if (cl.has("--list")) return list(cl.value("--config"));
     cl.expect_positional(1, 1, "one IN.exr");
     cl.require("-o");
-    const std::string from = cl.value("--from", "linear");
     color::DisplayOptions options;
-    if (from == "linear") {
-        options.input = color::SceneSpace::LinearRec709;
-    } else if (from == "xyz") {
-        options.input = color::SceneSpace::CieXyzD65;
-    } else {
-        throw Error("--from", "'" + from + "' is neither linear nor xyz");
-    }
+    options.input = scene_space_flag(cl);
     options.config_path = cl.value("--config");
     options.display = cl.value("--display");
     options.view = cl.value("--view");

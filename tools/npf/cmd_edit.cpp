@@ -25,19 +25,28 @@ namespace {
 // The edit flags (edit_request.h), between the command's own.
 const std::vector<FlagSpec>& edit_flags() {
     static const std::vector<FlagSpec> flags = [] {
-        std::vector<FlagSpec> f = {
-            {"-o", true, "output factor texture (.exr); required unless --dry-run"},
-            {"--recipe", true, "YAML recipe: a list of steps applied in order (configs/edits/)"},
-        };
-        for (const edit::EditRunFlag& e : edit::edit_run_flags()) f.push_back({e.name, e.takes_value, e.help});
-        f.insert(f.end(), {
-            {"--dry-run", false, "apply and report, write nothing"},
-            {"--help", false, "show this help"},
+        std::vector<FlagSpec> f = flag_table({
+            "-o VALUE  output factor texture (.exr); required unless --dry-run",
+            "--recipe VALUE  YAML recipe: a list of steps applied in order (configs/edits/)",
         });
+        for (const edit::EditRunFlag& e : edit::edit_run_flags()) f.push_back({e.name, e.takes_value, e.help});
+        f.push_back({"--dry-run", false, "apply and report, write nothing"});
         return f;
     }();
     return flags;
 }
+
+const char* kHelp =
+    "usage: npf edit IN.exr -o OUT.exr [--recipe FILE.yaml] [edit flags]\n\n"
+    "Edits a fitted NPF material (paper sec. 4.3): NDF linear transforms and their friendly forms,\n"
+    "diffuse colour, specular colour, thin-film Fresnel. The recipe's steps run first, then the edit\n"
+    "flags in the order given; each step's record goes into the file's metadata (edit_001, ...), which\n"
+    "npf info shows. After each step the directional albedo is checked (a warning above 1).\n"
+    "Conventions, maths and limits: docs/editing.md; example recipes: configs/edits/. Examples:\n"
+    "  npf edit copper.exr -o copper_wide.exr --stretch-tangent 2 --rotate 30\n"
+    "  npf edit felt.exr -o felt_red.exr --diffuse-srgb 0.8,0.1,0.1\n"
+    "  npf edit steel.exr -o steel_film.exr --thin-film 615,1.3 --film-base fitted\n"
+    "  npf edit paper.exr -o paper_capped.exr --limit-albedo 1\n\n";
 
 bool is_command_flag(const std::string& flag) {
     return flag == "-o" || flag == "--recipe" || flag == "--dry-run" || flag == "--help";
@@ -46,22 +55,8 @@ bool is_command_flag(const std::string& flag) {
 }  // namespace
 
 int run_edit(const std::vector<std::string>& args) {
-    CommandLine cl("edit", args, edit_flags());
+    const CommandLine cl = read_command_line(kHelp, edit_flags(), args);
     const bool dry = cl.has("--dry-run");
-    if (cl.has("--help")) {
-        std::printf("usage: npf edit IN.exr -o OUT.exr [--recipe FILE.yaml] [edit flags]\n\n"
-                    "Edits a fitted NPF material (paper sec. 4.3): NDF linear transforms and their friendly forms,\n"
-                    "diffuse colour, specular colour, thin-film Fresnel. The recipe's steps run first, then the edit\n"
-                    "flags in the order given; each step's record goes into the file's metadata (edit_001, ...), which\n"
-                    "npf info shows. After each step the directional albedo is checked (a warning above 1).\n"
-                    "Conventions, maths and limits: docs/editing.md; example recipes: configs/edits/. Examples:\n"
-                    "  npf edit copper.exr -o copper_wide.exr --stretch-tangent 2 --rotate 30\n"
-                    "  npf edit felt.exr -o felt_red.exr --diffuse-srgb 0.8,0.1,0.1\n"
-                    "  npf edit steel.exr -o steel_film.exr --thin-film 615,1.3 --film-base fitted\n"
-                    "  npf edit paper.exr -o paper_capped.exr --limit-albedo 1\n\n%s",
-                    usage_lines(edit_flags()).c_str());
-        return 0;
-    }
     cl.expect_positional(1, 1, "one IN.exr");
     if (!dry) cl.require("-o");
     const std::string input = cl.positional()[0], output = cl.value("-o");

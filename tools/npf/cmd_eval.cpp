@@ -25,20 +25,19 @@ namespace npf::cli {
 
 namespace {
 
-const std::vector<FlagSpec> kFlags = {
-    {"--dirs", true, "file of direction pairs, one 'wi_x wi_y wi_z wo_x wo_y wo_z' per line ('-': stdin, the default)"},
-    {"--cos", false, "print f_r cos(theta_o) = f_r * wo.z (the RGL reference readers' convention)"},
-    {"--wavelengths", true, "spectral files: evaluate at '450,550,650' or 'start:end:count' (nm)"},
-    {"--raw", false, "keep negative values (out-of-gamut RGB) instead of clamping them to 0"},
-    {"--pdf", false, "append a column 'pdf': the density (1/sr) with which the material samples wo given wi"},
-    {"--path", true, "NPF textures (.exr): 'memory' (tables in arrays, the default) or 'texture' (lookups through "
-                     "OpenImageIO's TextureSystem); a comment line names the path used"},
-    {"--json", false, "print one JSON object (channels, then a row per pair: values and pdf) instead of the text"},
-    {"--against", true, "compare FILE with this reference material at the pairs (default: npf convert's 500 held-out "
-                        "pairs) and print the relative RMS of f_r cos(theta_o) and the largest difference"},
-    {"--max-theta", true, "with --against: count only pairs with both directions within this angle (degrees, default 80)"},
-    {"--help", false, "show this help"},
-};
+const std::vector<FlagSpec> kFlags = flag_table({
+    "--dirs VALUE  file of direction pairs, one 'wi_x wi_y wi_z wo_x wo_y wo_z' per line ('-': stdin, the default)",
+    "--cos  print f_r cos(theta_o) = f_r * wo.z (the RGL reference readers' convention)",
+    "--wavelengths VALUE  spectral files: evaluate at '450,550,650' or 'start:end:count' (nm)",
+    "--raw  keep negative values (out-of-gamut RGB) instead of clamping them to 0",
+    "--pdf  append a column 'pdf': the density (1/sr) with which the material samples wo given wi",
+    "--path VALUE  NPF textures (.exr): 'memory' (tables in arrays, the default) or 'texture' (lookups through "
+    "OpenImageIO's TextureSystem); a comment line names the path used",
+    "--json  print one JSON object (channels, then a row per pair: values and pdf) instead of the text",
+    "--against VALUE  compare FILE with this reference material at the pairs (default: npf convert's 500 held-out "
+    "pairs) and print the relative RMS of f_r cos(theta_o) and the largest difference",
+    "--max-theta VALUE  with --against: count only pairs with both directions within this angle (degrees, default 80)",
+});
 
 const char* kHelp =
     "usage: npf eval FILE [--dirs PATH|-] [--cos] [--wavelengths LIST] [--raw] [--pdf] [--path memory|texture]\n"
@@ -176,34 +175,40 @@ int run_comparison(const CommandLine& cl, const std::string& path, const Brdf& t
     return 0;
 }
 
+// The material, and with --path the factor texture's lookup path as the text and JSON name it.
+struct EvalMaterial {
+    std::unique_ptr<Brdf> brdf;
+    std::string path_line, path_kind = "null";
+};
+
+EvalMaterial open_for_eval(const CommandLine& cl, const std::string& path) {
+    EvalMaterial m;
+    if (!cl.has("--path")) {
+        m.brdf = open_material(path);
+        return m;
+    }
+    const std::string kind = cl.value("--path");
+    if (kind != "memory" && kind != "texture") throw Error("--path", "expected 'memory' or 'texture', got '" + kind + "'");
+    if (!is_npf_texture(path)) {
+        require_regular_file(path, "a material file");
+        throw Error(path, "--path applies to NPF factor textures (.exr) only");
+    }
+    const bool texture = kind == "texture";
+    m.brdf = std::make_unique<NpfBrdf>(path, texture ? NpfClosure::Path::Texture : NpfClosure::Path::Memory);
+    m.path_line = texture ? "# path texture (OpenImageIO TextureSystem)\n" : "# path memory\n";
+    m.path_kind = json_string(kind);
+    return m;
+}
+
 }  // namespace
 
 int run_eval(const std::vector<std::string>& args) {
-    CommandLine cl("eval", args, kFlags);
-    if (cl.has("--help")) {
-        std::printf("%s%s", kHelp, usage_lines(kFlags).c_str());
-        return 0;
-    }
+    const CommandLine cl = read_command_line(kHelp, kFlags, args);
     cl.expect_positional(1, 1, "one FILE");
     const std::string path = cl.positional()[0];
-    std::unique_ptr<Brdf> brdf;
-    std::string path_line, path_kind = "null";
-    if (cl.has("--path")) {
-        const std::string kind = cl.value("--path");
-        if (kind != "memory" && kind != "texture") {
-            throw Error("--path", "expected 'memory' or 'texture', got '" + kind + "'");
-        }
-        if (!is_npf_texture(path)) {
-            require_regular_file(path, "a material file");
-            throw Error(path, "--path applies to NPF factor textures (.exr) only");
-        }
-        const bool texture = kind == "texture";
-        brdf = std::make_unique<NpfBrdf>(path, texture ? NpfClosure::Path::Texture : NpfClosure::Path::Memory);
-        path_line = texture ? "# path texture (OpenImageIO TextureSystem)\n" : "# path memory\n";
-        path_kind = json_string(kind);
-    } else {
-        brdf = open_material(path);
-    }
+    const EvalMaterial material = open_for_eval(cl, path);
+    const std::unique_ptr<Brdf>& brdf = material.brdf;
+    const std::string &path_line = material.path_line, &path_kind = material.path_kind;
 
     if (cl.has("--against")) {
         for (const char* flag : {"--cos", "--pdf"}) {

@@ -20,12 +20,18 @@ namespace npf::cli {
 
 namespace {
 
-const std::vector<FlagSpec> kFlags = {
-    {"--json", false, "print a JSON array, one object per file, instead of the text"},
-    {"--check", false, "only check that each FILE would shade: one line per file, 'ok: FILE' or 'error: FILE: "
-                       "PROBLEM'; exit 1 if any would not"},
-    {"--help", false, "show this help"},
-};
+const std::vector<FlagSpec> kFlags = flag_table({
+    "--json  print a JSON array, one object per file, instead of the text",
+    "--check  only check that each FILE would shade: one line per file, 'ok: FILE' or 'error: FILE: "
+    "PROBLEM'; exit 1 if any would not",
+});
+
+const char* kHelp =
+    "usage: npf info FILE... [--json] [--check]\n\nPrints format, isotropy, channels (wavelength range "
+    "and count), grid sizes, description and size of each material: RGL .bsdf, MERL .binary, NPF "
+    "texture .exr, Neural BRDF .h5 or analytic recipe .yaml.\n\nWith --check, opens each file as "
+    "a renderer would (factor textures as NpfClosure does, on both paths) and prints one line per "
+    "file; exit status 1 when any would not shade (docs/farms.md).\n\n";
 
 std::string human_bytes(std::uint64_t n) {
     const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
@@ -128,16 +134,7 @@ int run_check(const std::vector<std::string>& paths, bool json) {
 }  // namespace
 
 int run_info(const std::vector<std::string>& args) {
-    CommandLine cl("info", args, kFlags);
-    if (cl.has("--help")) {
-        std::printf("usage: npf info FILE... [--json] [--check]\n\nPrints format, isotropy, channels (wavelength range "
-                    "and count), grid sizes, description and size of each material: RGL .bsdf, MERL .binary, NPF "
-                    "texture .exr, Neural BRDF .h5 or analytic recipe .yaml.\n\nWith --check, opens each file as "
-                    "a renderer would (factor textures as NpfClosure does, on both paths) and prints one line per "
-                    "file; exit status 1 when any would not shade (docs/farms.md).\n\n%s",
-                    usage_lines(kFlags).c_str());
-        return 0;
-    }
+    const CommandLine cl = read_command_line(kHelp, kFlags, args);
     cl.expect_positional(1, SIZE_MAX, "one or more FILEs");
     const bool json = cl.has("--json");
     if (cl.has("--check")) return run_check(cl.positional(), json);

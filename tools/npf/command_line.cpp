@@ -2,6 +2,8 @@
 
 #include <npf/core/number_text.h>
 
+#include <npf/core/error.h>
+
 #include <cctype>
 
 namespace npf::cli {
@@ -65,6 +67,10 @@ double CommandLine::number(const std::string& flag, double fallback) const {
     return has(flag) ? parse_finite_number(value(flag), flag) : fallback;
 }
 
+void CommandLine::refuse_choice(const std::string& flag, const std::string& name, const std::string& refusal) {
+    throw Error(flag, "'" + name + "' " + refusal);
+}
+
 void CommandLine::expect_positional(std::size_t min, std::size_t max, const std::string& what) const {
     const std::size_t n = m_positional.size();
     if (n >= min && n <= max) return;
@@ -87,6 +93,31 @@ std::string usage_lines(const std::vector<FlagSpec>& flags) {
         out += left + " " + f.help + "\n";
     }
     return out;
+}
+
+std::vector<FlagSpec> flag_table(std::initializer_list<const char*> lines) {
+    std::vector<FlagSpec> flags;
+    for (const std::string line : lines) {
+        const std::size_t gap = line.find("  ");
+        const std::size_t help = line.find_first_not_of(' ', gap);
+        if (gap == std::string::npos || help == std::string::npos) throw std::logic_error("flag_table: '" + line + "'");
+        std::string name = line.substr(0, gap);
+        const std::string value_mark = " VALUE";
+        const bool takes_value = name.size() > value_mark.size() &&
+                                 name.compare(name.size() - value_mark.size(), value_mark.size(), value_mark) == 0;
+        if (takes_value) name.resize(name.size() - value_mark.size());
+        flags.push_back({name, takes_value, line.substr(help)});
+    }
+    return flags;
+}
+
+CommandLine read_command_line(const std::string& help, const std::vector<FlagSpec>& flags,
+                              const std::vector<std::string>& args) {
+    std::vector<FlagSpec> all = flags;
+    all.push_back({"--help", false, "show this help"});
+    CommandLine cl("", args, all);
+    if (cl.has("--help")) throw HelpRequest{help + usage_lines(all)};
+    return cl;
 }
 
 }  // namespace npf::cli

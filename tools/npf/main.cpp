@@ -101,6 +101,9 @@ int main(int argc, char** argv) {
         } catch (const npf::cli::VersionRequest&) {
             print_version();
             return 0;
+        } catch (const npf::cli::HelpRequest& help) {
+            std::fputs(help.text.c_str(), stdout);
+            return 0;
         } catch (const npf::cli::UsageError& e) {
             std::fprintf(stderr, "npf %s: error: %s (see npf %s --help)\n", s.name, e.what(), s.name);
             // A bare command also shows its usage on stdout, as --help does (scripts and
@@ -108,6 +111,8 @@ int main(int argc, char** argv) {
             if (args.empty()) {
                 try {
                     s.run({"--help"});
+                } catch (const npf::cli::HelpRequest& help) {
+                    std::fputs(help.text.c_str(), stdout);
                 } catch (const std::exception&) {
                 }
             }
