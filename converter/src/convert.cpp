@@ -191,66 +191,6 @@ const char* convert_preset_name(ConvertPreset p) {
     return "?";
 }
 
-ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
-    ConvertSettings s;
-    s.preset = preset;
-    AwlsOptions& o = s.fit;
-    s.compression.d_ratio = s.compression.g_ratio = 0.99;  // the paper's default (its sec. 4.1)
-    switch (preset) {
-    case ConvertPreset::Preview:
-        o.grid = isotropic ? RusinkiewiczGrid{45, 1, 45, 90} : RusinkiewiczGrid{32, 64, 32, 64};
-        o.g_theta = isotropic ? 45 : 32;
-        o.g_phi = isotropic ? 1 : 64;
-        o.phi_d_samples = isotropic ? 0 : 8;
-        o.max_iterations = 60;
-        o.tolerance = 1e-4;
-        s.max_wavelengths = 32;
-        s.error_pairs = 5000;
-        break;
-    case ConvertPreset::Production:
-    case ConvertPreset::Fine:
-    case ConvertPreset::Paper: {  // the paper's grid; paper samples more finely and fits longer
-        o.grid = isotropic ? RusinkiewiczGrid{90, 1, 90, 180} : RusinkiewiczGrid{90, 180, 90, 180};
-        o.g_theta = 90;
-        o.g_phi = isotropic ? 1 : 180;
-        const bool paper = preset == ConvertPreset::Paper;
-        // Anisotropic: 4 phi_d samples per ring at production (docs/fitting.md, "Issue 19, fifth
-        // step": renders within 0.15 dB of 8's, 1.3 to 1.7 times faster, 1.1 to 1.3 GB less), 8 at fine.
-        o.phi_d_samples = isotropic ? 0 : (paper ? 16 : preset == ConvertPreset::Fine ? 8 : 4);
-        o.max_iterations = paper ? 500 : 200;
-        o.tolerance = paper ? 1e-6 : 1e-5;
-        // The paper preset keeps the fit it was measured with (docs/fitting.md, "Convergence").
-        if (paper) {
-            o.acceleration = AwlsOptions::Acceleration::LineSearch;
-            o.g_pin = 0.0;
-            s.compression.per_channel = false;  // the paper's rule: the total ratio
-            // Judged as it was measured, under the studio map alone: its files stay as they were.
-            s.prediction.lightings = {"studio"};
-        }
-        // The accuracy ladder (docs/fitting.md, "Detail layer"): the same base, a finer residual.
-        if (!paper) {
-            s.detail.grid = preset == ConvertPreset::Fine ? DetailGrid{40, 20, 40} : DetailGrid{32, 24, 16};
-            s.close_horizon = true;
-        }
-        break;
-    }
-    }
-    if (preset == ConvertPreset::Preview) {
-        s.detail.grid = DetailGrid{16, 8, 16};
-        // Its grid is too coarse to carry a sub-degree peak without costing the renders elsewhere
-        // (ilm_l3_37_metallic: studio 45.2 dB per solid angle, 40.0 per half-vector angle;
-        // docs/fitting.md, "Under any light"): the quick look keeps the solid-angle measure.
-        s.detail.measure = DetailOptions::Measure::SolidAngle;
-        s.close_horizon = true;
-        // An eighth of the production prediction's renders: within 1.7 dB of the full figure on
-        // the five real materials (docs/metrics.md), and its floor says when noise rules.
-        s.prediction.size = 64;
-        s.prediction.spp = 32;
-        s.energy_error_samples = 96;
-    }
-    return s;
-}
-
 namespace {
 
 Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, const std::function<void(double)>& progress) {
@@ -415,19 +355,16 @@ Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, c
     m.emplace_back("source", info.path.empty() ? "(in memory: " + info.format + ")" : info.path);
     m.emplace_back("source_format", info.format);
     if (!info.description.empty()) m.emplace_back("source_description", info.description);
-    // The settings as fitted (after isotropy) from their table rows, the results between them.
+    // The settings as fitted (after isotropy, with the detail grid written) from their rows,
+    // sorted by key; the results after them.
     ConvertSettings fitted = settings;
     fitted.fit = o;
-    auto settings_lines = [&](int first, int last) {
-        for (auto& line : convert_settings_metadata(fitted, first, last)) m.push_back(std::move(line));
-    };
-    settings_lines(1, 3);
+    fitted.detail.grid = model.detail_grid;
+    for (auto& line : convert_settings_metadata(fitted)) m.push_back(std::move(line));
     m.emplace_back("fit_samples", std::to_string(report.fit.samples));
-    settings_lines(4, 10);
     m.emplace_back("fit_iterations", std::to_string(most_iterations));
     m.emplace_back("fit_weighted_error_max", number_text(worst_weighted));
     m.emplace_back("fit_invalid_values", std::to_string(report.fit.invalid_values));
-    settings_lines(11, 11);
     if (settings.error_pairs > 0) {
         m.emplace_back(npf_exr::kMetaFittedErrorMean, number_text(report.fitted_error.mean_relative_rms));
         m.emplace_back(npf_exr::kMetaFittedErrorMax, number_text(report.fitted_error.max_relative_rms));
@@ -441,22 +378,12 @@ Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, c
                                                      std::to_string(w.pair + 1) + " of " +
                                                      std::to_string(report.held_out.pairs));
     }
-    m.emplace_back("compression_rule", settings.compression.per_channel ? "per-channel" : "total");
     m.emplace_back("horizon_closed", settings.close_horizon ? std::to_string(report.horizon_columns_closed) + " columns" : "no");
     if (report.detail_not_kept) {
         m.emplace_back("detail_not_kept", "held-out relative RMS of f_r cos " + number_text(report.detail_not_kept_held_out_rms) +
                                               " with it, " + number_text(report.held_out.relative_rms) + " without");
     }
     if (report.has_detail) {
-        const DetailGrid& dg = model.detail_grid;
-        const DetailOptions& d = settings.detail;
-        m.emplace_back("detail_grid", std::to_string(dg.theta_h) + "x" + std::to_string(dg.theta_d) + "x" +
-                                          std::to_string(dg.phi_d));
-        m.emplace_back("detail_samples_per_cell", std::to_string(d.samples_per_cell));
-        m.emplace_back("detail_display_power", number_text(d.display_power));
-        m.emplace_back("detail_energy_weight", number_text(d.energy_weight));
-        m.emplace_back("detail_measure", d.measure == DetailOptions::Measure::SolidAngle ? "solid-angle" : "half-angle");
-        m.emplace_back("detail_clamp_passes", std::to_string(d.clamp_passes));
         m.emplace_back("detail_rank", std::to_string(model.detail.rank));
         m.emplace_back("detail_weighted_error_before", number_text(report.detail.weighted_error_before));
         m.emplace_back("detail_weighted_error_after", number_text(report.detail.weighted_error_after));
