@@ -1,7 +1,10 @@
 // The presets as data (issue 36): each preset's resolved ConvertSettings, every field, for an
 // isotropic and an anisotropic source, pinned as the code gave them before the presets became
-// key=value lines (test_preset_canonical_text.cpp pins the canonical text they give).
+// key=value lines, and the canonical text they give (convert_settings_canonical_text).
+#include "run_tool.h"
+
 #include <npf/converter/convert.h>
+#include <npf/converter/convert_settings_table.h>
 
 #include <gtest/gtest.h>
 
@@ -68,243 +71,232 @@ std::string every_field(const ConvertSettings& s) {
     return t;
 }
 
+// The production preset's for an isotropic source, and each preset's lines that differ from it.
 struct Pinned {
     const char* preset;
     bool isotropic;
-    const char* fields;
+    const char* differences;
 };
+
+// `text` with each line of `differences` in place of the line of the same name.
+std::string with_differences(const std::string& text, const std::string& differences) {
+    std::string out;
+    for (const std::string& line : npf::testing::lines_of(text)) {
+        std::string kept = line;
+        for (const std::string& d : npf::testing::lines_of(differences)) {
+            if (d.substr(0, d.find('=')) == line.substr(0, line.find('='))) kept = d;
+        }
+        out += kept + "\n";
+    }
+    return out;
+}
 
 // every_field(preset_settings(...)) from the code before the presets were data (e6ee40a).
-const Pinned kBefore[] = {
-    {"preview", true, R"(fit.grid=45,1,45,90
-fit.g=45,1
-fit.channels=rgb
-fit.phi_d_samples=0
-fit.volume_weight=0
-fit.importance=2,2
-fit.compressive=1,0.01
-fit.acceleration=2
-fit.g_pin=0.01
-fit.smith_start=1,0
-fit.iterations=60,0.0001,0
-compression=0.98999999999999999,0.98999999999999999,0,0,1
-detail.grid=16x8x16
-detail.samples=3,8
-detail.display=0.40000000000000002,0.01,0
-detail.clamp_passes=8
-detail.energy=10000;0,10,20,30,40,50,60,65,70,75,80,
-detail.solve=0.0001,0.99999000000000005,0,1,2000,9.9999999999999995e-08,0
-close_horizon=1
-detail_only_if_better=1
-compress_rgb=0
-wavelengths=,32
-isotropy=0
-error=5000,96
-preset=preview
-prediction=1,64,32,1,1,0;studio,key-rim,directional,
-target=0;16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64,
-)"},
-    {"preview", false, R"(fit.grid=32,64,32,64
-fit.g=32,64
-fit.channels=rgb
-fit.phi_d_samples=8
-fit.volume_weight=0
-fit.importance=2,2
-fit.compressive=1,0.01
-fit.acceleration=2
-fit.g_pin=0.01
-fit.smith_start=1,0
-fit.iterations=60,0.0001,0
-compression=0.98999999999999999,0.98999999999999999,0,0,1
-detail.grid=16x8x16
-detail.samples=3,8
-detail.display=0.40000000000000002,0.01,0
-detail.clamp_passes=8
-detail.energy=10000;0,10,20,30,40,50,60,65,70,75,80,
-detail.solve=0.0001,0.99999000000000005,0,1,2000,9.9999999999999995e-08,0
-close_horizon=1
-detail_only_if_better=1
-compress_rgb=0
-wavelengths=,32
-isotropy=0
-error=5000,96
-preset=preview
-prediction=1,64,32,1,1,0;studio,key-rim,directional,
-target=0;16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64,
-)"},
-    {"production", true, R"(fit.grid=90,1,90,180
-fit.g=90,1
-fit.channels=rgb
-fit.phi_d_samples=0
-fit.volume_weight=0
-fit.importance=2,2
-fit.compressive=1,0.01
-fit.acceleration=2
-fit.g_pin=0.01
-fit.smith_start=1,0
-fit.iterations=200,1.0000000000000001e-05,0
-compression=0.98999999999999999,0.98999999999999999,0,0,1
-detail.grid=32x24x16
-detail.samples=3,8
-detail.display=0.40000000000000002,0.01,1
-detail.clamp_passes=8
-detail.energy=10000;0,10,20,30,40,50,60,65,70,75,80,
-detail.solve=0.0001,0.99999000000000005,0,1,2000,9.9999999999999995e-08,0
-close_horizon=1
-detail_only_if_better=1
-compress_rgb=0
-wavelengths=,0
-isotropy=0
-error=20000,160
-preset=production
-prediction=1,128,64,1,1,0;studio,key-rim,directional,
-target=0;16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64,
-)"},
-    {"production", false, R"(fit.grid=90,180,90,180
-fit.g=90,180
-fit.channels=rgb
-fit.phi_d_samples=4
-fit.volume_weight=0
-fit.importance=2,2
-fit.compressive=1,0.01
-fit.acceleration=2
-fit.g_pin=0.01
-fit.smith_start=1,0
-fit.iterations=200,1.0000000000000001e-05,0
-compression=0.98999999999999999,0.98999999999999999,0,0,1
-detail.grid=32x24x16
-detail.samples=3,8
-detail.display=0.40000000000000002,0.01,1
-detail.clamp_passes=8
-detail.energy=10000;0,10,20,30,40,50,60,65,70,75,80,
-detail.solve=0.0001,0.99999000000000005,0,1,2000,9.9999999999999995e-08,0
-close_horizon=1
-detail_only_if_better=1
-compress_rgb=0
-wavelengths=,0
-isotropy=0
-error=20000,160
-preset=production
-prediction=1,128,64,1,1,0;studio,key-rim,directional,
-target=0;16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64,
-)"},
-    {"fine", true, R"(fit.grid=90,1,90,180
-fit.g=90,1
-fit.channels=rgb
-fit.phi_d_samples=0
-fit.volume_weight=0
-fit.importance=2,2
-fit.compressive=1,0.01
-fit.acceleration=2
-fit.g_pin=0.01
-fit.smith_start=1,0
-fit.iterations=200,1.0000000000000001e-05,0
-compression=0.98999999999999999,0.98999999999999999,0,0,1
-detail.grid=40x20x40
-detail.samples=3,8
-detail.display=0.40000000000000002,0.01,1
-detail.clamp_passes=8
-detail.energy=10000;0,10,20,30,40,50,60,65,70,75,80,
-detail.solve=0.0001,0.99999000000000005,0,1,2000,9.9999999999999995e-08,0
-close_horizon=1
-detail_only_if_better=1
-compress_rgb=0
-wavelengths=,0
-isotropy=0
-error=20000,160
-preset=fine
-prediction=1,128,64,1,1,0;studio,key-rim,directional,
-target=0;16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64,
-)"},
-    {"fine", false, R"(fit.grid=90,180,90,180
-fit.g=90,180
-fit.channels=rgb
-fit.phi_d_samples=8
-fit.volume_weight=0
-fit.importance=2,2
-fit.compressive=1,0.01
-fit.acceleration=2
-fit.g_pin=0.01
-fit.smith_start=1,0
-fit.iterations=200,1.0000000000000001e-05,0
-compression=0.98999999999999999,0.98999999999999999,0,0,1
-detail.grid=40x20x40
-detail.samples=3,8
-detail.display=0.40000000000000002,0.01,1
-detail.clamp_passes=8
-detail.energy=10000;0,10,20,30,40,50,60,65,70,75,80,
-detail.solve=0.0001,0.99999000000000005,0,1,2000,9.9999999999999995e-08,0
-close_horizon=1
-detail_only_if_better=1
-compress_rgb=0
-wavelengths=,0
-isotropy=0
-error=20000,160
-preset=fine
-prediction=1,128,64,1,1,0;studio,key-rim,directional,
-target=0;16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64,
-)"},
-    {"paper", true, R"(fit.grid=90,1,90,180
-fit.g=90,1
-fit.channels=rgb
-fit.phi_d_samples=0
-fit.volume_weight=0
-fit.importance=2,2
-fit.compressive=1,0.01
-fit.acceleration=1
-fit.g_pin=0
-fit.smith_start=1,0
-fit.iterations=500,9.9999999999999995e-07,0
-compression=0.98999999999999999,0.98999999999999999,0,0,0
-detail.grid=0x0x0
-detail.samples=3,8
-detail.display=0.40000000000000002,0.01,1
-detail.clamp_passes=8
-detail.energy=10000;0,10,20,30,40,50,60,65,70,75,80,
-detail.solve=0.0001,0.99999000000000005,0,1,2000,9.9999999999999995e-08,0
-close_horizon=0
-detail_only_if_better=1
-compress_rgb=0
-wavelengths=,0
-isotropy=0
-error=20000,160
-preset=paper
-prediction=1,128,64,1,1,0;studio,
-target=0;16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64,
-)"},
-    {"paper", false, R"(fit.grid=90,180,90,180
-fit.g=90,180
-fit.channels=rgb
-fit.phi_d_samples=16
-fit.volume_weight=0
-fit.importance=2,2
-fit.compressive=1,0.01
-fit.acceleration=1
-fit.g_pin=0
-fit.smith_start=1,0
-fit.iterations=500,9.9999999999999995e-07,0
-compression=0.98999999999999999,0.98999999999999999,0,0,0
-detail.grid=0x0x0
-detail.samples=3,8
-detail.display=0.40000000000000002,0.01,1
-detail.clamp_passes=8
-detail.energy=10000;0,10,20,30,40,50,60,65,70,75,80,
-detail.solve=0.0001,0.99999000000000005,0,1,2000,9.9999999999999995e-08,0
-close_horizon=0
-detail_only_if_better=1
-compress_rgb=0
-wavelengths=,0
-isotropy=0
-error=20000,160
-preset=paper
-prediction=1,128,64,1,1,0;studio,
-target=0;16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64,
-)"},
+const char* const kProductionIsotropicFields =
+    "fit.grid=90,1,90,180\n"
+    "fit.g=90,1\n"
+    "fit.channels=rgb\n"
+    "fit.phi_d_samples=0\n"
+    "fit.volume_weight=0\n"
+    "fit.importance=2,2\n"
+    "fit.compressive=1,0.01\n"
+    "fit.acceleration=2\n"
+    "fit.g_pin=0.01\n"
+    "fit.smith_start=1,0\n"
+    "fit.iterations=200,1.0000000000000001e-05,0\n"
+    "compression=0.98999999999999999,0.98999999999999999,0,0,1\n"
+    "detail.grid=32x24x16\n"
+    "detail.samples=3,8\n"
+    "detail.display=0.40000000000000002,0.01,1\n"
+    "detail.clamp_passes=8\n"
+    "detail.energy=10000;0,10,20,30,40,50,60,65,70,75,80,\n"
+    "detail.solve=0.0001,0.99999000000000005,0,1,2000,9.9999999999999995e-08,0\n"
+    "close_horizon=1\n"
+    "detail_only_if_better=1\n"
+    "compress_rgb=0\n"
+    "wavelengths=,0\n"
+    "isotropy=0\n"
+    "error=20000,160\n"
+    "preset=production\n"
+    "prediction=1,128,64,1,1,0;studio,key-rim,directional,\n"
+    "target=0;16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64,\n";
+const Pinned kFieldsBefore[] = {
+    {"preview", true,
+     "fit.grid=45,1,45,90\n"
+     "fit.g=45,1\n"
+     "fit.iterations=60,0.0001,0\n"
+     "detail.grid=16x8x16\n"
+     "detail.display=0.40000000000000002,0.01,0\n"
+     "wavelengths=,32\n"
+     "error=5000,96\n"
+     "preset=preview\n"
+     "prediction=1,64,32,1,1,0;studio,key-rim,directional,\n"},
+    {"preview", false,
+     "fit.grid=32,64,32,64\n"
+     "fit.g=32,64\n"
+     "fit.phi_d_samples=8\n"
+     "fit.iterations=60,0.0001,0\n"
+     "detail.grid=16x8x16\n"
+     "detail.display=0.40000000000000002,0.01,0\n"
+     "wavelengths=,32\n"
+     "error=5000,96\n"
+     "preset=preview\n"
+     "prediction=1,64,32,1,1,0;studio,key-rim,directional,\n"},
+    {"production", true, ""},
+    {"production", false,
+     "fit.grid=90,180,90,180\n"
+     "fit.g=90,180\n"
+     "fit.phi_d_samples=4\n"},
+    {"fine", true,
+     "detail.grid=40x20x40\n"
+     "preset=fine\n"},
+    {"fine", false,
+     "fit.grid=90,180,90,180\n"
+     "fit.g=90,180\n"
+     "fit.phi_d_samples=8\n"
+     "detail.grid=40x20x40\n"
+     "preset=fine\n"},
+    {"paper", true,
+     "fit.acceleration=1\n"
+     "fit.g_pin=0\n"
+     "fit.iterations=500,9.9999999999999995e-07,0\n"
+     "compression=0.98999999999999999,0.98999999999999999,0,0,0\n"
+     "detail.grid=0x0x0\n"
+     "close_horizon=0\n"
+     "preset=paper\n"
+     "prediction=1,128,64,1,1,0;studio,\n"},
+    {"paper", false,
+     "fit.grid=90,180,90,180\n"
+     "fit.g=90,180\n"
+     "fit.phi_d_samples=16\n"
+     "fit.acceleration=1\n"
+     "fit.g_pin=0\n"
+     "fit.iterations=500,9.9999999999999995e-07,0\n"
+     "compression=0.98999999999999999,0.98999999999999999,0,0,0\n"
+     "detail.grid=0x0x0\n"
+     "close_horizon=0\n"
+     "preset=paper\n"
+     "prediction=1,128,64,1,1,0;studio,\n"},
 };
 
+// convert_settings_canonical_text(preset_settings(...)): every row's line, sorted by key.
+const char* const kProductionIsotropicCanonical =
+    "acceleration=anderson\n"
+    "compress_rgb=false\n"
+    "compressive=1\n"
+    "detail=32,24,16\n"
+    "detail_clamp_passes=8\n"
+    "detail_energy=10000\n"
+    "detail_measure=half-angle\n"
+    "detail_views=0,10,20,30,40,50,60,65,70,75,80\n"
+    "detail_weight=0.40000000000000002\n"
+    "energy_error_samples=160\n"
+    "epsilon=0.01\n"
+    "error_pairs=20000\n"
+    "g_grid=90,1\n"
+    "g_pin=0.01\n"
+    "g_prior=smith-start\n"
+    "grid=90,1,90,180\n"
+    "horizon=closed\n"
+    "importance=2\n"
+    "isotropy=auto\n"
+    "iterations=200\n"
+    "light=studio,key-rim,directional\n"
+    "max_wavelengths=0\n"
+    "no_predict=false\n"
+    "pca=0.98999999999999999,0.98999999999999999\n"
+    "pca_rule=per-channel\n"
+    "phi_d_samples=0\n"
+    "plain=false\n"
+    "prediction_size=128\n"
+    "prediction_spp=64\n"
+    "preset=production\n"
+    "rank=0,0\n"
+    "target_grids=16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64\n"
+    "target_psnr=0\n"
+    "threads=0\n"
+    "tolerance=1.0000000000000001e-05\n"
+    "volume_weight=paper\n"
+    "wavelengths=\n";
+const Pinned kCanonical[] = {
+    {"preview", true,
+     "detail=16,8,16\n"
+     "detail_measure=solid-angle\n"
+     "energy_error_samples=96\n"
+     "error_pairs=5000\n"
+     "g_grid=45,1\n"
+     "grid=45,1,45,90\n"
+     "iterations=60\n"
+     "max_wavelengths=32\n"
+     "prediction_size=64\n"
+     "prediction_spp=32\n"
+     "preset=preview\n"
+     "tolerance=0.0001\n"},
+    {"preview", false,
+     "detail=16,8,16\n"
+     "detail_measure=solid-angle\n"
+     "energy_error_samples=96\n"
+     "error_pairs=5000\n"
+     "g_grid=32,64\n"
+     "grid=32,64,32,64\n"
+     "iterations=60\n"
+     "max_wavelengths=32\n"
+     "phi_d_samples=8\n"
+     "prediction_size=64\n"
+     "prediction_spp=32\n"
+     "preset=preview\n"
+     "tolerance=0.0001\n"},
+    {"production", true, ""},
+    {"production", false,
+     "g_grid=90,180\n"
+     "grid=90,180,90,180\n"
+     "phi_d_samples=4\n"},
+    {"fine", true,
+     "detail=40,20,40\n"
+     "preset=fine\n"},
+    {"fine", false,
+     "detail=40,20,40\n"
+     "g_grid=90,180\n"
+     "grid=90,180,90,180\n"
+     "phi_d_samples=8\n"
+     "preset=fine\n"},
+    {"paper", true,
+     "acceleration=line-search\n"
+     "detail=none\n"
+     "g_pin=0\n"
+     "horizon=open\n"
+     "iterations=500\n"
+     "light=studio\n"
+     "pca_rule=total\n"
+     "preset=paper\n"
+     "tolerance=9.9999999999999995e-07\n"},
+    {"paper", false,
+     "acceleration=line-search\n"
+     "detail=none\n"
+     "g_grid=90,180\n"
+     "g_pin=0\n"
+     "grid=90,180,90,180\n"
+     "horizon=open\n"
+     "iterations=500\n"
+     "light=studio\n"
+     "pca_rule=total\n"
+     "phi_d_samples=16\n"
+     "preset=paper\n"
+     "tolerance=9.9999999999999995e-07\n"},
+};
+
+ConvertSettings preset_of(const Pinned& p) { return preset_settings(parse_convert_preset(p.preset, "preset"), p.isotropic); }
+
 TEST(PresetValues, EveryPresetResolvesAsBefore) {
-    for (const Pinned& p : kBefore) {
-        EXPECT_EQ(every_field(preset_settings(parse_convert_preset(p.preset, "preset"), p.isotropic)), p.fields)
+    for (const Pinned& p : kFieldsBefore) {
+        EXPECT_EQ(every_field(preset_of(p)), with_differences(kProductionIsotropicFields, p.differences))
+            << p.preset << (p.isotropic ? " isotropic" : " anisotropic");
+    }
+}
+
+TEST(PresetValues, CanonicalTextOfEveryPreset) {
+    for (const Pinned& p : kCanonical) {
+        EXPECT_EQ(convert_settings_canonical_text(preset_of(p)), with_differences(kProductionIsotropicCanonical, p.differences))
             << p.preset << (p.isotropic ? " isotropic" : " anisotropic");
     }
 }

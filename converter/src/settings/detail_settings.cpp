@@ -11,6 +11,11 @@ namespace {
 
 bool has_layer(const ConvertSettings& fitted) { return !fitted.detail.grid.empty(); }
 
+// A detail setting's metadata: its one line where the file has a layer.
+std::function<Lines(const ConvertSettings&)> layer_line(std::string key, std::function<std::string(const ConvertSettings&)> value) {
+    return [key = std::move(key), value = std::move(value)](const ConvertSettings& s) { return has_layer(s) ? Lines{{key, value(s)}} : Lines{}; };
+}
+
 }  // namespace
 
 Rows detail_settings() {
@@ -36,9 +41,7 @@ Rows detail_settings() {
     r = number("detail_energy", 1, 1, {{0, kAny}}, "must not be negative", "weight of the detail fit's energy term (0: none)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.energy_weight = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.detail.energy_weight); };
-    r.metadata = [](const ConvertSettings& s) {
-        return has_layer(s) ? Lines{{"detail_energy_weight", number_text(s.detail.energy_weight)}} : Lines{};
-    };
+    r.metadata = layer_line("detail_energy_weight", [](const ConvertSettings& s) { return number_text(s.detail.energy_weight); });
     rows.push_back(r);
 
     r = choice("horizon", {"closed", "open"},
@@ -48,13 +51,11 @@ Rows detail_settings() {
     r.read = [](const ConvertSettings& s) { return std::string(s.close_horizon ? "closed" : "open"); };
     rows.push_back(r);
 
-    r = number("detail_weight", 1, 1, {{0, 4}}, "must lie in [0, 4]",
+    r = number("detail_weight", 1, 1, {{0, detail_limits::kMaxDisplayPower}}, "",
                "power p of the detail fit's display weight (f + eps)^-p (0: plain least squares)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.display_power = v.numbers[0]; };
     r.read = [](const ConvertSettings& s) { return g17(s.detail.display_power); };
-    r.metadata = [](const ConvertSettings& s) {
-        return has_layer(s) ? Lines{{"detail_display_power", number_text(s.detail.display_power)}} : Lines{};
-    };
+    r.metadata = layer_line("detail_display_power", [](const ConvertSettings& s) { return number_text(s.detail.display_power); });
     rows.push_back(r);
 
     r = choice("detail_measure", {"half-angle", "solid-angle"},
@@ -66,14 +67,14 @@ Rows detail_settings() {
     r.read = [](const ConvertSettings& s) {
         return std::string(s.detail.measure == DetailOptions::Measure::SolidAngle ? "solid-angle" : "half-angle");
     };
-    r.metadata = [read = r.read](const ConvertSettings& s) { return has_layer(s) ? Lines{{"detail_measure", read(s)}} : Lines{}; };
+    r.metadata = layer_line("detail_measure", r.read);
     rows.push_back(r);
 
-    r = whole("detail_clamp_passes", {{0, 16}},
+    r = whole("detail_clamp_passes", {{0, detail_limits::kMaxClampPasses}},
               "refits of the detail layer's energy targets to the clamped model max(0, NPF + r) (0: none)");
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.clamp_passes = int(v.numbers[0]); };
     r.read = [](const ConvertSettings& s) { return std::to_string(s.detail.clamp_passes); };
-    r.metadata = [read = r.read](const ConvertSettings& s) { return has_layer(s) ? Lines{{"detail_clamp_passes", read(s)}} : Lines{}; };
+    r.metadata = layer_line("detail_clamp_passes", r.read);
     rows.push_back(r);
 
     r = number("detail_views", 1, 0, {}, "", "view angles (degrees) at which the detail fit holds the source's albedo");

@@ -9,6 +9,13 @@ namespace npf::settings_rows {
 
 namespace {
 
+// The two whole numbers of a pair setting (g_grid, rank), and their text.
+void set_pair(int& first, int& second, const SettingValue& v) {
+    first = int(v.numbers[0]);
+    second = int(v.numbers[1]);
+}
+std::string pair_text(int first, int second) { return std::to_string(first) + "," + std::to_string(second); }
+
 std::string g_prior_name(const AwlsOptions& o) {
     if (o.smith_start) return o.bound_g ? "smith" : "smith-start";
     return o.bound_g ? "bounded" : "free";
@@ -38,11 +45,8 @@ Rows fit_grid_settings() {
 
     r = always_hashed(whole("g_grid", {grid_axis, phi_axis}, "G table THETA,PHI"));
     r.takes_list = true;
-    r.apply = [](ConvertSettings& s, const SettingValue& v) {
-        s.fit.g_theta = int(v.numbers[0]);
-        s.fit.g_phi = int(v.numbers[1]);
-    };
-    r.read = [](const ConvertSettings& s) { return std::to_string(s.fit.g_theta) + "," + std::to_string(s.fit.g_phi); };
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { set_pair(s.fit.g_theta, s.fit.g_phi, v); };
+    r.read = [](const ConvertSettings& s) { return pair_text(s.fit.g_theta, s.fit.g_phi); };
     rows.push_back(r);
 
     r = always_hashed(whole("phi_d_samples", {{0, awls_limits::kMaxPhiDSamples}}, "phi_d samples per ring (0: every grid cell)"));
@@ -75,12 +79,10 @@ Rows fit_grid_settings() {
 
     r = always_hashed(whole("rank", {{1, 100000}, {1, 100000}}, "fixed SVD ranks D,G (overrides --pca; unset: --pca decides)"));
     r.takes_list = true;
-    r.apply = [](ConvertSettings& s, const SettingValue& v) {
-        s.compression.d_rank = int(v.numbers[0]);
-        s.compression.g_rank = int(v.numbers[1]);
-    };
-    r.read = [](const ConvertSettings& s) { return std::to_string(s.compression.d_rank) + "," + std::to_string(s.compression.g_rank); };
+    r.apply = [](ConvertSettings& s, const SettingValue& v) { set_pair(s.compression.d_rank, s.compression.g_rank, v); };
+    r.read = [](const ConvertSettings& s) { return pair_text(s.compression.d_rank, s.compression.g_rank); };
     rows.push_back(r);
+
     r = preset_only(always_hashed(switched("compress_rgb", "")));
     r.apply = [](ConvertSettings& s, const SettingValue& v) { s.compress_rgb = v.on; };
     r.read = [](const ConvertSettings& s) { return std::string(s.compress_rgb ? "true" : "false"); };
