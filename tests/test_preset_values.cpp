@@ -71,11 +71,12 @@ std::string every_field(const ConvertSettings& s) {
     return t;
 }
 
-// The production preset's for an isotropic source, and each preset's lines that differ from it.
+// The production preset's for an isotropic source; each preset's lines that differ from it, and
+// its anisotropic lines that differ from its isotropic ones.
 struct Pinned {
     const char* preset;
-    bool isotropic;
-    const char* differences;
+    const char* isotropic;
+    const char* anisotropic;
 };
 
 // `text` with each line of `differences` in place of the line of the same name.
@@ -121,7 +122,7 @@ const char* const kProductionIsotropicFields =
     "prediction=1,128,64,1,1,0;studio,key-rim,directional,\n"
     "target=0;16x8x16,24x10x24,32x24x16,40x20x40,48x24x48,64x32x64,\n";
 const Pinned kFieldsBefore[] = {
-    {"preview", true,
+    {"preview",
      "fit.grid=45,1,45,90\n"
      "fit.g=45,1\n"
      "fit.iterations=60,0.0001,0\n"
@@ -130,33 +131,22 @@ const Pinned kFieldsBefore[] = {
      "wavelengths=,32\n"
      "error=5000,96\n"
      "preset=preview\n"
-     "prediction=1,64,32,1,1,0;studio,key-rim,directional,\n"},
-    {"preview", false,
+     "prediction=1,64,32,1,1,0;studio,key-rim,directional,\n",
      "fit.grid=32,64,32,64\n"
      "fit.g=32,64\n"
-     "fit.phi_d_samples=8\n"
-     "fit.iterations=60,0.0001,0\n"
-     "detail.grid=16x8x16\n"
-     "detail.display=0.40000000000000002,0.01,0\n"
-     "wavelengths=,32\n"
-     "error=5000,96\n"
-     "preset=preview\n"
-     "prediction=1,64,32,1,1,0;studio,key-rim,directional,\n"},
-    {"production", true, ""},
-    {"production", false,
+     "fit.phi_d_samples=8\n"},
+    {"production",
+     "",
      "fit.grid=90,180,90,180\n"
      "fit.g=90,180\n"
      "fit.phi_d_samples=4\n"},
-    {"fine", true,
+    {"fine",
      "detail.grid=40x20x40\n"
-     "preset=fine\n"},
-    {"fine", false,
+     "preset=fine\n",
      "fit.grid=90,180,90,180\n"
      "fit.g=90,180\n"
-     "fit.phi_d_samples=8\n"
-     "detail.grid=40x20x40\n"
-     "preset=fine\n"},
-    {"paper", true,
+     "fit.phi_d_samples=8\n"},
+    {"paper",
      "fit.acceleration=1\n"
      "fit.g_pin=0\n"
      "fit.iterations=500,9.9999999999999995e-07,0\n"
@@ -164,19 +154,10 @@ const Pinned kFieldsBefore[] = {
      "detail.grid=0x0x0\n"
      "close_horizon=0\n"
      "preset=paper\n"
-     "prediction=1,128,64,1,1,0;studio,\n"},
-    {"paper", false,
+     "prediction=1,128,64,1,1,0;studio,\n",
      "fit.grid=90,180,90,180\n"
      "fit.g=90,180\n"
-     "fit.phi_d_samples=16\n"
-     "fit.acceleration=1\n"
-     "fit.g_pin=0\n"
-     "fit.iterations=500,9.9999999999999995e-07,0\n"
-     "compression=0.98999999999999999,0.98999999999999999,0,0,0\n"
-     "detail.grid=0x0x0\n"
-     "close_horizon=0\n"
-     "preset=paper\n"
-     "prediction=1,128,64,1,1,0;studio,\n"},
+     "fit.phi_d_samples=16\n"},
 };
 
 // convert_settings_canonical_text(preset_settings(...)): every row's line, sorted by key.
@@ -219,7 +200,7 @@ const char* const kProductionIsotropicCanonical =
     "volume_weight=paper\n"
     "wavelengths=\n";
 const Pinned kCanonical[] = {
-    {"preview", true,
+    {"preview",
      "detail=16,8,16\n"
      "detail_measure=solid-angle\n"
      "energy_error_samples=96\n"
@@ -231,36 +212,22 @@ const Pinned kCanonical[] = {
      "prediction_size=64\n"
      "prediction_spp=32\n"
      "preset=preview\n"
-     "tolerance=0.0001\n"},
-    {"preview", false,
-     "detail=16,8,16\n"
-     "detail_measure=solid-angle\n"
-     "energy_error_samples=96\n"
-     "error_pairs=5000\n"
+     "tolerance=0.0001\n",
      "g_grid=32,64\n"
      "grid=32,64,32,64\n"
-     "iterations=60\n"
-     "max_wavelengths=32\n"
-     "phi_d_samples=8\n"
-     "prediction_size=64\n"
-     "prediction_spp=32\n"
-     "preset=preview\n"
-     "tolerance=0.0001\n"},
-    {"production", true, ""},
-    {"production", false,
+     "phi_d_samples=8\n"},
+    {"production",
+     "",
      "g_grid=90,180\n"
      "grid=90,180,90,180\n"
      "phi_d_samples=4\n"},
-    {"fine", true,
+    {"fine",
      "detail=40,20,40\n"
-     "preset=fine\n"},
-    {"fine", false,
-     "detail=40,20,40\n"
+     "preset=fine\n",
      "g_grid=90,180\n"
      "grid=90,180,90,180\n"
-     "phi_d_samples=8\n"
-     "preset=fine\n"},
-    {"paper", true,
+     "phi_d_samples=8\n"},
+    {"paper",
      "acceleration=line-search\n"
      "detail=none\n"
      "g_pin=0\n"
@@ -269,36 +236,26 @@ const Pinned kCanonical[] = {
      "light=studio\n"
      "pca_rule=total\n"
      "preset=paper\n"
-     "tolerance=9.9999999999999995e-07\n"},
-    {"paper", false,
-     "acceleration=line-search\n"
-     "detail=none\n"
+     "tolerance=9.9999999999999995e-07\n",
      "g_grid=90,180\n"
-     "g_pin=0\n"
      "grid=90,180,90,180\n"
-     "horizon=open\n"
-     "iterations=500\n"
-     "light=studio\n"
-     "pca_rule=total\n"
-     "phi_d_samples=16\n"
-     "preset=paper\n"
-     "tolerance=9.9999999999999995e-07\n"},
+     "phi_d_samples=16\n"},
 };
 
-ConvertSettings preset_of(const Pinned& p) { return preset_settings(parse_convert_preset(p.preset, "preset"), p.isotropic); }
-
-TEST(PresetValues, EveryPresetResolvesAsBefore) {
-    for (const Pinned& p : kFieldsBefore) {
-        EXPECT_EQ(every_field(preset_of(p)), with_differences(kProductionIsotropicFields, p.differences))
-            << p.preset << (p.isotropic ? " isotropic" : " anisotropic");
+// For each preset and isotropy: what `text` gives, and what the pins say.
+void expect_pinned(const Pinned (&pins)[4], const char* production, std::string (*text)(const ConvertSettings&)) {
+    for (const Pinned& p : pins) {
+        const std::string isotropic = with_differences(production, p.isotropic);
+        const ConvertPreset preset = parse_convert_preset(p.preset, "preset");
+        EXPECT_EQ(text(preset_settings(preset, true)), isotropic) << p.preset << " isotropic";
+        EXPECT_EQ(text(preset_settings(preset, false)), with_differences(isotropic, p.anisotropic)) << p.preset << " anisotropic";
     }
 }
 
-TEST(PresetValues, CanonicalTextOfEveryPreset) {
-    for (const Pinned& p : kCanonical) {
-        EXPECT_EQ(convert_settings_canonical_text(preset_of(p)), with_differences(kProductionIsotropicCanonical, p.differences))
-            << p.preset << (p.isotropic ? " isotropic" : " anisotropic");
-    }
-}
+std::string canonical_text(const ConvertSettings& s) { return convert_settings_canonical_text(s); }
+
+TEST(PresetValues, EveryPresetResolvesAsBefore) { expect_pinned(kFieldsBefore, kProductionIsotropicFields, every_field); }
+
+TEST(PresetValues, CanonicalTextOfEveryPreset) { expect_pinned(kCanonical, kProductionIsotropicCanonical, canonical_text); }
 
 }  // namespace

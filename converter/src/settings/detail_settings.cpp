@@ -16,6 +16,14 @@ std::function<Lines(const ConvertSettings&)> layer_line(std::string key, std::fu
     return [key = std::move(key), value = std::move(value)](const ConvertSettings& s) { return has_layer(s) ? Lines{{key, value(s)}} : Lines{}; };
 }
 
+// A number among the detail fit's options: applied, read and recorded (where the file has a layer).
+Row detail_number(Row r, double DetailOptions::*field, std::string metadata_key) {
+    r.apply = [field](ConvertSettings& s, const SettingValue& v) { s.detail.*field = v.numbers[0]; };
+    r.read = [field](const ConvertSettings& s) { return g17(s.detail.*field); };
+    r.metadata = layer_line(std::move(metadata_key), [field](const ConvertSettings& s) { return number_text(s.detail.*field); });
+    return r;
+}
+
 }  // namespace
 
 Rows detail_settings() {
@@ -39,10 +47,7 @@ Rows detail_settings() {
     rows.push_back(r);
 
     r = number("detail_energy", 1, 1, {{0, kAny}}, "must not be negative", "weight of the detail fit's energy term (0: none)");
-    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.energy_weight = v.numbers[0]; };
-    r.read = [](const ConvertSettings& s) { return g17(s.detail.energy_weight); };
-    r.metadata = layer_line("detail_energy_weight", [](const ConvertSettings& s) { return number_text(s.detail.energy_weight); });
-    rows.push_back(r);
+    rows.push_back(detail_number(r, &DetailOptions::energy_weight, "detail_energy_weight"));
 
     r = choice("horizon", {"closed", "open"},
                "closed (G falls to 0 at the horizon, no light gained at silhouettes) or open (G "
@@ -53,10 +58,7 @@ Rows detail_settings() {
 
     r = number("detail_weight", 1, 1, {{0, detail_limits::kMaxDisplayPower}}, "",
                "power p of the detail fit's display weight (f + eps)^-p (0: plain least squares)");
-    r.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.display_power = v.numbers[0]; };
-    r.read = [](const ConvertSettings& s) { return g17(s.detail.display_power); };
-    r.metadata = layer_line("detail_display_power", [](const ConvertSettings& s) { return number_text(s.detail.display_power); });
-    rows.push_back(r);
+    rows.push_back(detail_number(r, &DetailOptions::display_power, "detail_display_power"));
 
     r = choice("detail_measure", {"half-angle", "solid-angle"},
                "half-angle (every half-vector angle counts alike, so a narrow peak keeps its height) or "
