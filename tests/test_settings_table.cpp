@@ -1,6 +1,6 @@
-// The conversion settings table (issue 18): one row is all a new setting needs, the CLI flags and
-// the batch keys accept and reject the same values, and the batch content hash text is that of
-// content hash version 1 byte for byte.
+// The conversion settings table (issues 18, 36): the CLI flags and the batch keys accept and
+// reject the same values, the batch content hash text and the metadata follow the sorted
+// canonical text, and the help states the presets' defaults. (A new setting: test_setting_declaration.cpp.)
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -23,119 +24,62 @@ using namespace npf;
 namespace batch = npf::batch;
 using npf::testing::contains;
 
-// runner.cpp's resolved_text before the table (content hash version 1), kept as the reference.
-std::string g17(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return b;
-}
-std::string legacy_hash_text(const ConvertSettings& s) {
-    const AwlsOptions& o = s.fit;
-    std::string t;
-    t += "preset=" + std::string(convert_preset_name(s.preset)) + "\n";
-    t += "grid=" + std::to_string(o.grid.theta_h) + "," + std::to_string(o.grid.phi_h) + "," + std::to_string(o.grid.theta_d) +
-         "," + std::to_string(o.grid.phi_d) + "\n";
-    t += "g_grid=" + std::to_string(o.g_theta) + "," + std::to_string(o.g_phi) + "\n";
-    t += "phi_d_samples=" + std::to_string(o.phi_d_samples) + "\n";
-    t += "volume_weight=" + std::string(o.volume_weight == VolumeWeight::Paper ? "paper" : "three-angle") + "\n";
-    t += "importance=" + g17(o.importance_power_view) +
-         (o.importance_power_light != o.importance_power_view ? "," + g17(o.importance_power_light) : std::string()) +
-         "\ncompressive=" + g17(o.compressive_power) +
-         "\nepsilon=" + g17(o.compressive_epsilon) + "\n";
-    t += "acceleration=" + std::to_string(int(o.acceleration)) + "\ng_pin=" + g17(o.g_pin) + "\nsmith_start=" + std::to_string(o.smith_start) +
-         "\nbound_g=" + std::to_string(o.bound_g) + "\n";
-    t += "iterations=" + std::to_string(o.max_iterations) + "\ntolerance=" + g17(o.tolerance) + "\n";
-    t += "pca=" + g17(s.compression.d_ratio) + "," + g17(s.compression.g_ratio) + "\nrank=" +
-         std::to_string(s.compression.d_rank) + "," + std::to_string(s.compression.g_rank) + "\n";
-    t += "compress_rgb=" + std::to_string(s.compress_rgb) + "\nwavelengths=" + s.wavelengths +
-         "\nmax_wavelengths=" + std::to_string(s.max_wavelengths) + "\n";
-    t += "isotropy=" + std::to_string(int(s.isotropy)) + "\nerror_pairs=" + std::to_string(s.error_pairs) + "\n";
-    return t;
-}
-
-// resolved_text(preset_settings(Production, isotropic)), captured before the table existed.
+// The hash text of the production preset for an isotropic source (content hash version 2: the
+// canonical text's lines, sorted by key).
 const char* const kProductionIsotropicHashText =
-    "preset=production\ngrid=90,1,90,180\ng_grid=90,1\nphi_d_samples=0\nvolume_weight=paper\nimportance=2\ncompressive=1\n"
-    "epsilon=0.01\nacceleration=2\ng_pin=0.01\nsmith_start=1\nbound_g=0\niterations=200\ntolerance=1.0000000000000001e-05\n"
-    "pca=0.98999999999999999,0.98999999999999999\nrank=0,0\ncompress_rgb=0\nwavelengths=\nmax_wavelengths=0\nisotropy=0\n"
-    "error_pairs=20000\n";
+    "acceleration=anderson\ncompress_rgb=false\ncompressive=1\nepsilon=0.01\nerror_pairs=20000\ng_grid=90,1\n"
+    "g_pin=0.01\ng_prior=smith-start\ngrid=90,1,90,180\nimportance=2\nisotropy=auto\niterations=200\nmax_wavelengths=0\n"
+    "pca=0.98999999999999999,0.98999999999999999\nphi_d_samples=0\npreset=production\nrank=0,0\n"
+    "tolerance=1.0000000000000001e-05\nvolume_weight=paper\nwavelengths=\n";
 
 batch::Settings batch_settings(const std::string& defaults) {
     const std::string dir = npf::testing::temporary_folder("settings-table");
     return batch::parse_batch_config("output_dir: out\ninputs: m.bsdf\ndefaults: " + defaults + "\n", "t.yaml", dir).materials.at(0).settings;
 }
 
-TEST(SettingsTable, HashTextIsContentHashVersionOne) {
+std::vector<std::string> keys_of(const std::string& text) {
+    std::vector<std::string> keys;
+    for (const std::string& line : npf::testing::lines_of(text)) keys.push_back(line.substr(0, line.find('=')));
+    return keys;
+}
+
+TEST(SettingsTable, HashTextIsTheSortedCanonicalText) {
     EXPECT_EQ(convert_settings_hash_text(preset_settings(ConvertPreset::Production, true), true), kProductionIsotropicHashText);
     for (ConvertPreset p : {ConvertPreset::Preview, ConvertPreset::Production, ConvertPreset::Fine, ConvertPreset::Paper}) {
         for (bool iso : {true, false}) {
-            EXPECT_EQ(convert_settings_hash_text(preset_settings(p, iso), iso), legacy_hash_text(preset_settings(p, iso)));
-        }
-    }
-    // Every setting the batch knew before the table, through the batch's own mapping.
-    for (const char* d : {"{preset: preview, grid: [20, 1, 18, 36], g_grid: [18, 1], pca: [0.9, 0.8], rank: [3, 2], importance: [1, 2], "
-                          "compressive: 0.5, epsilon: 0.02, volume_weight: three-angle, iterations: 7, tolerance: 0.01, g_prior: bounded, "
-                          "plain: true, error_pairs: 0, threads: 3, wavelengths: '400:700:4', max_wavelengths: 8, isotropy: anisotropic, "
-                          "phi_d_samples: 4}",
-                          "{importance: 1, g_prior: free, target_psnr: 40}", "{g_prior: smith-start, isotropy: isotropic, pca: [1, 1]}",
-                          "{preset: paper, tolerance: 1e-7, epsilon: 1e-3, compressive: 0, plain: false}"}) {
-        const batch::Settings s = batch_settings(d);
-        for (bool source_isotropic : {true, false}) {
-            const ConvertSettings c = batch::resolve_convert_settings(s, source_isotropic);
-            const bool iso = c.isotropy == Isotropy::Auto ? source_isotropic : c.isotropy == Isotropy::Isotropic;
-            EXPECT_EQ(convert_settings_hash_text(c, iso), legacy_hash_text(c)) << d;
+            const ConvertSettings s = preset_settings(p, iso);
+            const std::string canonical = convert_settings_canonical_text(s), hash = convert_settings_hash_text(s, iso);
+            std::vector<std::string> keys = keys_of(canonical);
+            EXPECT_TRUE(std::is_sorted(keys.begin(), keys.end())) << canonical;
+            // The hash's lines are the canonical text's: at a preset's values, the Always rows'.
+            for (const std::string& line : npf::testing::lines_of(hash)) EXPECT_TRUE(npf::testing::has_line(canonical, line)) << line;
+            keys = keys_of(hash);
+            EXPECT_TRUE(std::is_sorted(keys.begin(), keys.end())) << hash;
+            EXPECT_EQ(std::count(keys.begin(), keys.end(), "threads"), 0);
+            EXPECT_EQ(std::count(keys.begin(), keys.end(), "detail"), 0) << "a WhenChanged row at its preset's value";
         }
     }
 }
 
-// A setting the table does not have yet: the detail fit's samples per cell.
-ConvertSettingsTable table_with_a_new_row() {
-    ConvertSettingsTable table = convert_settings_table();
-    ConvertSettingRow row;
-    row.key = "detail_samples";
-    row.kind = SettingKind::Whole;
-    row.ranges = {{1, 16}};
-    row.help = "samples per detail cell and axis";
-    row.apply = [](ConvertSettings& s, const SettingValue& v) { s.detail.samples_per_cell = int(v.numbers[0]); };
-    row.read = [](const ConvertSettings& s) { return std::to_string(s.detail.samples_per_cell); };
-    row.metadata_order = 10;  // after the fit's settings
-    row.metadata = [](const ConvertSettings& s) {
-        return std::vector<std::pair<std::string, std::string>>{{"fit_detail_samples", std::to_string(s.detail.samples_per_cell)}};
-    };
-    table.push_back(row);
-    return table;
-}
-
-TEST(SettingsTable, ANewSettingIsOneRow) {
-    const ConvertSettingsTable table = table_with_a_new_row();
-    const ConvertSettingRow& row = table.back();
-    EXPECT_EQ(setting_flag(row), "--detail-samples");
-    EXPECT_EQ(setting_default(row, ConvertPreset::Production, true), "3");
-    EXPECT_THROW(check_setting(row, "0", "--detail-samples"), Error);
-    EXPECT_THROW(check_setting(row, "x", "--detail-samples"), Error);
-
-    const auto resolve = [&](const std::map<std::string, std::string>& given) {
-        return resolve_convert_settings(
-            table,
-            [&](const ConvertSettingRow& r) -> std::optional<SettingValue> {
-                const auto it = given.find(r.key);
-                if (it == given.end()) return std::nullopt;
-                return check_setting(r, it->second, setting_flag(r));
-            },
-            [](const ConvertSettingRow& r) { return setting_flag(r); }, true);
-    };
-    const ConvertSettings changed = resolve({{"detail_samples", "5"}, {"preset", "fine"}});
-    EXPECT_EQ(changed.detail.samples_per_cell, 5);
-    EXPECT_EQ(changed.preset, ConvertPreset::Fine);
-    // In the hash text only where it differs from the preset's value: earlier hashes stay.
-    const ConvertSettings unchanged = resolve({{"detail_samples", "3"}});
-    EXPECT_EQ(convert_settings_hash_text(unchanged, true, table), kProductionIsotropicHashText);
-    EXPECT_EQ(convert_settings_hash_text(changed, true, table),
-              convert_settings_hash_text(changed, true) + "detail_samples=5\n");
-    // And in the factor texture's metadata, after the fit's settings.
-    auto lines = convert_settings_metadata(changed, 1, 11);
-    lines.insert(lines.begin() + 11, {"fit_detail_samples", "5"});  // after fit_g_pin, before error_pairs
-    EXPECT_EQ(convert_settings_metadata(changed, 1, 11, table), lines);
+// Every setting that changes the file changes the hash, through the batch's own mapping; one
+// that does not (threads) leaves it.
+TEST(SettingsTable, EverySettingThatChangesTheFileChangesTheHash) {
+    const ConvertSettings production = batch::resolve_convert_settings(batch_settings("{}"), true);
+    const std::string base = convert_settings_hash_text(production, true);
+    for (const char* d : {"{preset: preview}", "{grid: [20, 1, 18, 36]}", "{g_grid: [18, 1]}", "{pca: [0.9, 0.8]}", "{pca: [0.99, 0.99]}",
+                          "{rank: [3, 2]}", "{importance: [1, 2]}", "{compressive: 0.5}", "{epsilon: 0.02}",
+                          "{volume_weight: three-angle}", "{iterations: 7}", "{tolerance: 0.01}", "{g_prior: bounded}", "{plain: true}",
+                          "{error_pairs: 0}", "{wavelengths: '400:700:4'}", "{max_wavelengths: 8}", "{isotropy: isotropic}",
+                          "{phi_d_samples: 4}", "{pca_rule: total}", "{detail: none}", "{detail_energy: 3}", "{horizon: open}",
+                          "{detail_weight: 1}", "{detail_measure: solid-angle}", "{detail_clamp_passes: 2}", "{detail_views: [0, 40]}",
+                          "{no_predict: true}", "{light: studio}", "{target_psnr: 40, target_grids: 16x8x16}"}) {
+        const ConvertSettings c = batch::resolve_convert_settings(batch_settings(d), true);
+        EXPECT_NE(convert_settings_hash_text(c, true), base) << d;
+    }
+    EXPECT_EQ(convert_settings_hash_text(batch::resolve_convert_settings(batch_settings("{threads: 3}"), true), true), base);
+    // Restating a preset's value is no change.
+    EXPECT_EQ(convert_settings_hash_text(batch::resolve_convert_settings(batch_settings("{detail: [32, 24, 16], iterations: 200}"), true), true),
+              base);
 }
 
 // convert.cpp's metadata lines of the settings before the table, kept as the reference.
@@ -165,19 +109,33 @@ std::vector<std::pair<std::string, std::string>> legacy_metadata(const ConvertSe
                                                                                                    : "none");
     m.emplace_back("fit_g_pin", six(o.g_pin));
     if (s.error_pairs > 0) m.emplace_back("error_pairs", std::to_string(s.error_pairs));
+    // Written by convert.cpp by hand before the detail rows had metadata.
+    m.emplace_back("compression_rule", s.compression.per_channel ? "per-channel" : "total");
+    if (!s.detail.grid.empty()) {
+        const DetailOptions& d = s.detail;
+        m.emplace_back("detail_grid", std::to_string(d.grid.theta_h) + "x" + std::to_string(d.grid.theta_d) + "x" + std::to_string(d.grid.phi_d));
+        m.emplace_back("detail_samples_per_cell", std::to_string(d.samples_per_cell));
+        m.emplace_back("detail_display_power", six(d.display_power));
+        m.emplace_back("detail_energy_weight", six(d.energy_weight));
+        m.emplace_back("detail_measure", d.measure == DetailOptions::Measure::SolidAngle ? "solid-angle" : "half-angle");
+        m.emplace_back("detail_clamp_passes", std::to_string(d.clamp_passes));
+    }
+    // Now sorted by key (the order of the file's npf:metadata_keys).
+    std::sort(m.begin(), m.end());
     return m;
 }
 
-TEST(SettingsTable, MetadataLinesAreThoseBeforeTheTable) {
+TEST(SettingsTable, MetadataLinesAreThoseBeforeSortedByKey) {
     for (ConvertPreset preset : {ConvertPreset::Preview, ConvertPreset::Production, ConvertPreset::Fine, ConvertPreset::Paper}) {
         for (bool isotropic : {true, false}) {
             ConvertSettings s = preset_settings(preset, isotropic);
-            EXPECT_EQ(convert_settings_metadata(s, 1, 11), legacy_metadata(s)) << convert_preset_name(preset);
+            EXPECT_EQ(convert_settings_metadata(s), legacy_metadata(s)) << convert_preset_name(preset);
             s.fit.importance_power_light = 2.5;
             s.fit.acceleration = AwlsOptions::Acceleration::Anderson;
             s.fit.phi_d_samples = 0;
             s.error_pairs = 0;
-            EXPECT_EQ(convert_settings_metadata(s, 1, 11), legacy_metadata(s)) << convert_preset_name(preset);
+            s.detail.grid = DetailGrid{};
+            EXPECT_EQ(convert_settings_metadata(s), legacy_metadata(s)) << convert_preset_name(preset);
         }
     }
 }

@@ -1,5 +1,5 @@
 #include <npf/converter/convert.h>
-#include <npf/converter/convert_settings_table.h>
+#include "conversion_metadata.h"
 
 #include <npf/shading/npf_texture_file.h>
 #include <npf/core/directional_albedo.h>
@@ -46,10 +46,6 @@ Channels choose_channels(const Brdf& source, const ConvertSettings& s) {
     for (std::size_t k = 0; k < n; ++k) kept.push_back(all[(k * (all.size() - 1) + (n - 1) / 2) / (n - 1)]);
     kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
     return Channels::spectral(kept);
-}
-
-std::string grid_text(const DetailGrid& g) {
-    return g.empty() ? "none" : std::to_string(g.theta_h) + "x" + std::to_string(g.theta_d) + "x" + std::to_string(g.phi_d);
 }
 
 // The largest |relative difference| of the model's directional albedo from the source's over the
@@ -191,87 +187,24 @@ const char* convert_preset_name(ConvertPreset p) {
     return "?";
 }
 
-ConvertSettings preset_settings(ConvertPreset preset, bool isotropic) {
-    ConvertSettings s;
-    s.preset = preset;
-    AwlsOptions& o = s.fit;
-    s.compression.d_ratio = s.compression.g_ratio = 0.99;  // the paper's default (its sec. 4.1)
-    switch (preset) {
-    case ConvertPreset::Preview:
-        o.grid = isotropic ? RusinkiewiczGrid{45, 1, 45, 90} : RusinkiewiczGrid{32, 64, 32, 64};
-        o.g_theta = isotropic ? 45 : 32;
-        o.g_phi = isotropic ? 1 : 64;
-        o.phi_d_samples = isotropic ? 0 : 8;
-        o.max_iterations = 60;
-        o.tolerance = 1e-4;
-        s.max_wavelengths = 32;
-        s.error_pairs = 5000;
-        break;
-    case ConvertPreset::Production:
-    case ConvertPreset::Fine:
-    case ConvertPreset::Paper: {  // the paper's grid; paper samples more finely and fits longer
-        o.grid = isotropic ? RusinkiewiczGrid{90, 1, 90, 180} : RusinkiewiczGrid{90, 180, 90, 180};
-        o.g_theta = 90;
-        o.g_phi = isotropic ? 1 : 180;
-        const bool paper = preset == ConvertPreset::Paper;
-        // Anisotropic: 4 phi_d samples per ring at production (docs/fitting.md, "Issue 19, fifth
-        // step": renders within 0.15 dB of 8's, 1.3 to 1.7 times faster, 1.1 to 1.3 GB less), 8 at fine.
-        o.phi_d_samples = isotropic ? 0 : (paper ? 16 : preset == ConvertPreset::Fine ? 8 : 4);
-        o.max_iterations = paper ? 500 : 200;
-        o.tolerance = paper ? 1e-6 : 1e-5;
-        // The paper preset keeps the fit it was measured with (docs/fitting.md, "Convergence").
-        if (paper) {
-            o.acceleration = AwlsOptions::Acceleration::LineSearch;
-            o.g_pin = 0.0;
-            s.compression.per_channel = false;  // the paper's rule: the total ratio
-            // Judged as it was measured, under the studio map alone: its files stay as they were.
-            s.prediction.lightings = {"studio"};
-        }
-        // The accuracy ladder (docs/fitting.md, "Detail layer"): the same base, a finer residual.
-        if (!paper) {
-            s.detail.grid = preset == ConvertPreset::Fine ? DetailGrid{40, 20, 40} : DetailGrid{32, 24, 16};
-            s.close_horizon = true;
-        }
-        break;
-    }
-    }
-    if (preset == ConvertPreset::Preview) {
-        s.detail.grid = DetailGrid{16, 8, 16};
-        // Its grid is too coarse to carry a sub-degree peak without costing the renders elsewhere
-        // (ilm_l3_37_metallic: studio 45.2 dB per solid angle, 40.0 per half-vector angle;
-        // docs/fitting.md, "Under any light"): the quick look keeps the solid-angle measure.
-        s.detail.measure = DetailOptions::Measure::SolidAngle;
-        s.close_horizon = true;
-        // An eighth of the production prediction's renders: within 1.7 dB of the full figure on
-        // the five real materials (docs/metrics.md), and its floor says when noise rules.
-        s.prediction.size = 64;
-        s.prediction.spp = 32;
-        s.energy_error_samples = 96;
-    }
-    return s;
-}
-
 namespace {
 
-Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, const std::function<void(double)>& progress) {
-    const auto start = Clock::now();
-    const BrdfInfo& info = source.info();
-    ConvertReport report;
-    report.input_bytes = info.file_bytes;
-    const bool target = settings.target_psnr != 0.0;
-    if (target) check_target_psnr(settings.target_psnr, "target_psnr");
-    // A conversion whose tables no factor texture may hold (docs/format.md sec. 8) would fit for
-    // hours and then be refused by the writer: refused now.
-    {
-        const AwlsOptions& f = settings.fit;
-        const auto cells = [](int a, int b) { return std::uint64_t(std::max(a, 1)) * std::uint64_t(std::max(b, 1)); };
-        if (cells(f.grid.theta_h, f.grid.phi_h) > NpfModel::kMaxTableCells || cells(f.g_theta, f.g_phi) > NpfModel::kMaxTableCells)
-            throw Error(info.path.empty() ? "convert" : info.path,
-                        "the fitting grid's D (" + std::to_string(f.grid.theta_h) + " x " + std::to_string(f.grid.phi_h) + ") or G (" +
-                            std::to_string(f.g_theta) + " x " + std::to_string(f.g_phi) + ") has more than the " +
-                            std::to_string(NpfModel::kMaxTableCells) + " cells a factor texture may hold");
-    }
-    // The source's renders first: a missing environment map fails before the long fit.
+// The name a conversion's errors carry: the source's path ("convert" for one in memory).
+std::string source_name(const BrdfInfo& info) { return info.path.empty() ? "convert" : info.path; }
+
+// A conversion whose tables no factor texture may hold (docs/format.md sec. 8) would fit for
+// hours and then be refused by the writer: refused now.
+void check_table_sizes(const AwlsOptions& f, const BrdfInfo& info) {
+    const auto cells = [](int a, int b) { return std::uint64_t(std::max(a, 1)) * std::uint64_t(std::max(b, 1)); };
+    if (cells(f.grid.theta_h, f.grid.phi_h) > NpfModel::kMaxTableCells || cells(f.g_theta, f.g_phi) > NpfModel::kMaxTableCells)
+        throw Error(source_name(info),
+                    "the fitting grid's D (" + std::to_string(f.grid.theta_h) + " x " + std::to_string(f.grid.phi_h) + ") or G (" +
+                        std::to_string(f.g_theta) + " x " + std::to_string(f.g_phi) + ") has more than the " +
+                        std::to_string(NpfModel::kMaxTableCells) + " cells a factor texture may hold");
+}
+
+// The source's renders first: a missing environment map fails before the long fit.
+std::optional<PsnrPredictor> start_prediction(const Brdf& source, const ConvertSettings& settings, bool target, ConvertReport& report) {
     std::optional<PsnrPredictor> predictor;
     if (settings.predict_psnr || target) {
         const auto t0 = Clock::now();
@@ -281,121 +214,174 @@ Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, c
         report.prediction_settings = predictor->settings_text();
         report.seconds_prediction += seconds_since(t0);
     }
-    report.isotropic = settings.isotropy == Isotropy::Auto ? info.isotropic : settings.isotropy == Isotropy::Isotropic;
+    return predictor;
+}
 
+// The fitter's options for this source: its channels, and no phi axes for isotropic factors.
+AwlsOptions fit_options(const Brdf& source, const ConvertSettings& settings, ConvertReport& report) {
+    const BrdfInfo& info = source.info();
+    report.isotropic = settings.isotropy == Isotropy::Auto ? info.isotropic : settings.isotropy == Isotropy::Isotropic;
     AwlsOptions o = settings.fit;
     o.channels = report.channels = choose_channels(source, settings);
     if (report.isotropic) {
         o.grid.phi_h = 1;
         o.g_phi = 1;
     } else if (o.grid.phi_h == 1 || o.g_phi == 1) {
-        throw Error(info.path.empty() ? "convert" : info.path, "anisotropic factors need phi_h and G phi sizes above 1");
+        throw Error(source_name(info), "anisotropic factors need phi_h and G phi sizes above 1");
     }
-    // Fitting is most of the time; the error measurement and writing the rest (with a target,
-    // the ladder's detail fits take a share).
-    const double fit_share = target ? 0.6 : 0.9;
-    o.progress = [&](double f) {
-        if (progress) progress(fit_share * f);
-    };
-    const NpfFactors factors = fit_npf(source, o, &report.fit);
+    return o;
+}
+
+NpfFactors fit_factors(const Brdf& source, const AwlsOptions& o, ConvertReport& report) {
+    NpfFactors factors = fit_npf(source, o, &report.fit);
     // A NaN or infinite source value gets no weight in the fit; a conversion that silently drops
     // data is wrong with exit 0, so it fails (the readers' value bounds make this a defect).
     if (report.fit.invalid_values > 0)
-        throw Error(info.path.empty() ? "convert" : info.path,
+        throw Error(source_name(source.info()),
                     std::to_string(report.fit.invalid_values) +
                         " source values at the fit's samples are not finite (NaN or infinite): the conversion would drop them");
+    return factors;
+}
 
-    auto t = Clock::now();
-    CompressionOptions compression = settings.compression;
-    if (o.channels.is_rgb() && !settings.compress_rgb) compression = CompressionOptions{};
+// Factors that could give values no material reaches are the fit's fault, not the source's: say
+// so here, before the file's own check calls the tables corrupt (core/brdf.h).
+void check_value_bound(const NpfModel& model, const ConvertSettings& settings, const BrdfInfo& info) {
+    const double bound = model.value_bound();
+    if (bound <= kMaxMaterialValue) return;
+    std::size_t worst = 0;
+    double f_largest = 0.0;
+    for (std::size_t c = 0; c < model.channel_count(); ++c) {
+        const float* f = model.F.data() + c * std::size_t(model.f_theta);
+        const double m = *std::max_element(f, f + model.f_theta);
+        if (m > f_largest) f_largest = m, worst = c;
+    }
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "the fit is degenerate: its factors could give f_r cos(theta_i) cos(theta_o) up to %.3g 1/sr (largest F "
+                  "%.3g, channel %s), above the %.0e a material may reach; nothing written%s",
+                  bound, f_largest, model.channels.name(worst).c_str(), kMaxMaterialValue,
+                  settings.preset == ConvertPreset::Production ? "" : " (the production preset may fit it: --preset production)");
+    throw Error(source_name(info), text);
+}
+
+// The SVD across channels (RGB stays lossless unless asked), then the horizon closed.
+NpfModel compress_model(const NpfFactors& factors, const ConvertSettings& settings, const CompressionOptions& compression,
+                        ConvertReport& report) {
+    const auto t = Clock::now();
     NpfModel model = compress_factors(factors, compression);
     report.seconds_compression = seconds_since(t);
     report.d_rank = model.D.rank;
     report.g_rank = model.G.rank;
     report.d_kept_ratio = model.D.kept_ratio;
     report.g_kept_ratio = model.G.kept_ratio;
-
     if (settings.close_horizon) report.horizon_columns_closed = model.close_g_at_horizon();
-    // Factors that could give values no material reaches are the fit's fault, not the source's:
-    // say so here, before the file's own check calls the tables corrupt (core/brdf.h).
-    if (const double bound = model.value_bound(); !(bound <= kMaxMaterialValue)) {
-        std::size_t worst = 0;
-        double f_largest = 0.0;
-        for (std::size_t c = 0; c < model.channel_count(); ++c) {
-            const float* f = model.F.data() + c * std::size_t(model.f_theta);
-            const double m = *std::max_element(f, f + model.f_theta);
-            if (m > f_largest) f_largest = m, worst = c;
-        }
-        char text[320];
-        std::snprintf(text, sizeof text,
-                      "the fit is degenerate: its factors could give f_r cos(theta_i) cos(theta_o) up to %.3g 1/sr (largest F "
-                      "%.3g, channel %s), above the %.0e a material may reach; nothing written%s",
-                      bound, f_largest, model.channels.name(worst).c_str(), kMaxMaterialValue,
-                      settings.preset == ConvertPreset::Production ? "" : " (the production preset may fit it: --preset production)");
-        throw Error(info.path.empty() ? "convert" : info.path, text);
-    }
-    if (target) {
-        search_detail_ladder(source, model, settings, o.threads, *predictor, report, progress);
+    return model;
+}
+
+// The detail layer: the ladder's choice with a target, else the settings' grid (if any).
+void add_detail_layer(const Brdf& source, NpfModel& model, const ConvertSettings& settings, int threads, const PsnrPredictor* predictor,
+                      ConvertReport& report, const std::function<void(double)>& progress) {
+    if (predictor && settings.target_psnr != 0.0) {
+        search_detail_ladder(source, model, settings, threads, *predictor, report, progress);
     } else if (!settings.detail.grid.empty()) {
         DetailOptions d = settings.detail;
-        if (d.threads == 0) d.threads = o.threads;
+        if (d.threads == 0) d.threads = threads;
         report.detail = fit_detail_layer(source, model, d, [&](double f) {
             if (progress) progress(0.9 + 0.05 * f);
         });
         report.has_detail = true;
         report.detail_rank = model.detail.rank;
     }
-
     report.detail_grid = model.detail_grid;
-    t = Clock::now();
-    if (settings.error_pairs > 0) {
-        const std::size_t C = factors.channel_count();
-        report.fitted_error = brdf_space_error(source, o.channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
-            const Vec3d a{wi.x, wi.y, wi.z}, b{wo.x, wo.y, wo.z};
-            for (std::size_t c = 0; c < C; ++c) out[c] = factors.eval(c, a, b);
-        }, settings.error_pairs);
-        if (progress) progress(0.95);
-        NpfModel without_detail = model;
-        without_detail.detail_grid = DetailGrid{};
-        without_detail.detail = SpectralBasis{};
-        report.compressed_error = brdf_space_error(source, o.channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
-            without_detail.eval_all(wi, wo, out);
-        }, settings.error_pairs);
-        if (report.has_detail) {
-            report.detailed_error = brdf_space_error(source, o.channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
-                model.eval_all(wi, wo, out);
-            }, settings.error_pairs);
-        }
+}
+
+NpfModel without_detail_layer(NpfModel model) {
+    model.detail_grid = DetailGrid{};
+    model.detail = SpectralBasis{};
+    return model;
+}
+
+// The BRDF-space errors of the fitted factors, the compressed ones and the detailed model, and
+// the held-out comparison of what is written.
+void measure_brdf_errors(const Brdf& source, const NpfFactors& factors, const NpfModel& model, const Channels& channels,
+                         int pairs, ConvertReport& report, const std::function<void(double)>& progress) {
+    const std::size_t C = factors.channel_count();
+    report.fitted_error = brdf_space_error(source, channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
+        const Vec3d a{wi.x, wi.y, wi.z}, b{wo.x, wo.y, wo.z};
+        for (std::size_t c = 0; c < C; ++c) out[c] = factors.eval(c, a, b);
+    }, pairs);
+    if (progress) progress(0.95);
+    const NpfModel without_detail = without_detail_layer(model);
+    report.compressed_error = brdf_space_error(source, channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
+        without_detail.eval_all(wi, wo, out);
+    }, pairs);
+    if (report.has_detail) {
+        report.detailed_error = brdf_space_error(source, channels, [&](const Vec3& wi, const Vec3& wo, double* out) {
+            model.eval_all(wi, wo, out);
+        }, pairs);
     }
-    if (settings.error_pairs > 0) report.held_out = compare_brdfs(NpfBrdf(model), source, model.channels, held_out_pairs());
-    // The residual has no phi_h axis: on an anisotropic material it is the average over phi_h,
-    // which can miss every azimuth. There it is kept only where the held-out BRDF-space error
-    // (f_r cos at pairs no fit saw, pooled over channels: docs/metrics.md sec. 14) says it helps.
-    // Not on isotropic ones, and not with a target (the predicted render decides there).
-    if (report.has_detail && settings.error_pairs > 0 && settings.detail_only_if_better && !target && !model.isotropic()) {
-        NpfModel without_detail = model;
-        without_detail.detail_grid = DetailGrid{};
-        without_detail.detail = SpectralBasis{};
-        const BrdfComparisonResult plain = compare_brdfs(NpfBrdf(without_detail), source, model.channels, held_out_pairs());
-        if (!(report.held_out.relative_rms < plain.relative_rms)) {
-            report.detail_not_kept_held_out_rms = report.held_out.relative_rms;
-            model = std::move(without_detail);
-            report.held_out = plain;
-            report.has_detail = false;
-            report.detail_grid = DetailGrid{};
-            report.detail_not_kept = true;
-        }
+    report.held_out = compare_brdfs(NpfBrdf(model), source, model.channels, held_out_pairs());
+}
+
+// The residual has no phi_h axis: on an anisotropic material it is the average over phi_h, which
+// can miss every azimuth. There it is kept only where the held-out BRDF-space error (f_r cos at
+// pairs no fit saw, pooled over channels: docs/metrics.md sec. 14) says it helps. Not on
+// isotropic ones, and not with a target (the predicted render decides there).
+void keep_detail_if_better(const Brdf& source, NpfModel& model, const ConvertSettings& settings, ConvertReport& report) {
+    if (!report.has_detail || settings.error_pairs <= 0 || !settings.detail_only_if_better || settings.target_psnr != 0.0 ||
+        model.isotropic())
+        return;
+    NpfModel without_detail = without_detail_layer(model);
+    const BrdfComparisonResult plain = compare_brdfs(NpfBrdf(without_detail), source, model.channels, held_out_pairs());
+    if (!(report.held_out.relative_rms < plain.relative_rms)) {
+        report.detail_not_kept_held_out_rms = report.held_out.relative_rms;
+        model = std::move(without_detail);
+        report.held_out = plain;
+        report.has_detail = false;
+        report.detail_grid = DetailGrid{};
+        report.detail_not_kept = true;
     }
-    // Energy: a fit can gain light where the data are thin (grazing views beyond the measured
-    // range).
-    {
-        const EnergyCheck e = energy_check(model, o.threads);
-        report.albedo_max = e.albedo_max;
-        report.albedo_max_theta_deg = e.theta_deg;
-        report.albedo_max_channel = e.channel;
-        report.albedo_unbounded_at_horizon = e.unbounded_at_horizon;
-    }
-    measure_energy_error(source, model, settings.energy_error_samples, o.threads, report);
+}
+
+// Energy: a fit can gain light where the data are thin (grazing views beyond the measured range).
+void measure_energy(const Brdf& source, const NpfModel& model, const ConvertSettings& settings, int threads, ConvertReport& report) {
+    const EnergyCheck e = energy_check(model, threads);
+    report.albedo_max = e.albedo_max;
+    report.albedo_max_theta_deg = e.theta_deg;
+    report.albedo_max_channel = e.channel;
+    report.albedo_unbounded_at_horizon = e.unbounded_at_horizon;
+    measure_energy_error(source, model, settings.energy_error_samples, threads, report);
+}
+
+Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, const std::function<void(double)>& progress) {
+    const auto start = Clock::now();
+    const BrdfInfo& info = source.info();
+    ConvertReport report;
+    report.input_bytes = info.file_bytes;
+    const bool target = settings.target_psnr != 0.0;
+    if (target) check_target_psnr(settings.target_psnr, "target_psnr");
+    check_table_sizes(settings.fit, info);
+    std::optional<PsnrPredictor> predictor = start_prediction(source, settings, target, report);
+
+    AwlsOptions o = fit_options(source, settings, report);
+    // Fitting is most of the time; the error measurement and writing the rest (with a target,
+    // the ladder's detail fits take a share).
+    const double fit_share = target ? 0.6 : 0.9;
+    o.progress = [&](double f) {
+        if (progress) progress(fit_share * f);
+    };
+    const NpfFactors factors = fit_factors(source, o, report);
+
+    CompressionOptions compression = settings.compression;
+    if (o.channels.is_rgb() && !settings.compress_rgb) compression = CompressionOptions{};
+    NpfModel model = compress_model(factors, settings, compression, report);
+    check_value_bound(model, settings, info);
+    add_detail_layer(source, model, settings, o.threads, predictor ? &*predictor : nullptr, report, progress);
+
+    const auto t = Clock::now();
+    if (settings.error_pairs > 0) measure_brdf_errors(source, factors, model, o.channels, settings.error_pairs, report, progress);
+    keep_detail_if_better(source, model, settings, report);
+    measure_energy(source, model, settings, o.threads, report);
     report.seconds_error = seconds_since(t);
     if (predictor) {
         // Again for the written model, now with its noise floor (a target's search rendered the
@@ -405,104 +391,7 @@ Conversion convert_stages(const Brdf& source, const ConvertSettings& settings, c
         report.seconds_prediction += report.prediction.seconds;
     }
 
-    double worst_weighted = 0.0;
-    int most_iterations = 0;
-    for (std::size_t c = 0; c < report.fit.relative_error.size(); ++c) {
-        worst_weighted = std::max(worst_weighted, report.fit.relative_error[c]);
-        most_iterations = std::max(most_iterations, report.fit.iterations[c]);
-    }
-    auto& m = model.metadata;
-    m.emplace_back("source", info.path.empty() ? "(in memory: " + info.format + ")" : info.path);
-    m.emplace_back("source_format", info.format);
-    if (!info.description.empty()) m.emplace_back("source_description", info.description);
-    // The settings as fitted (after isotropy) from their table rows, the results between them.
-    ConvertSettings fitted = settings;
-    fitted.fit = o;
-    auto settings_lines = [&](int first, int last) {
-        for (auto& line : convert_settings_metadata(fitted, first, last)) m.push_back(std::move(line));
-    };
-    settings_lines(1, 3);
-    m.emplace_back("fit_samples", std::to_string(report.fit.samples));
-    settings_lines(4, 10);
-    m.emplace_back("fit_iterations", std::to_string(most_iterations));
-    m.emplace_back("fit_weighted_error_max", number_text(worst_weighted));
-    m.emplace_back("fit_invalid_values", std::to_string(report.fit.invalid_values));
-    settings_lines(11, 11);
-    if (settings.error_pairs > 0) {
-        m.emplace_back(npf_exr::kMetaFittedErrorMean, number_text(report.fitted_error.mean_relative_rms));
-        m.emplace_back(npf_exr::kMetaFittedErrorMax, number_text(report.fitted_error.max_relative_rms));
-        m.emplace_back(npf_exr::kMetaErrorMean, number_text(report.compressed_error.mean_relative_rms));
-        m.emplace_back(npf_exr::kMetaErrorMax, number_text(report.compressed_error.max_relative_rms));
-        const BrdfComparisonResult::Worst& w = report.held_out.worst;
-        m.emplace_back("error_held_out_rel_rms", number_text(report.held_out.relative_rms));
-        m.emplace_back("error_held_out_rel_rms_60", number_text(report.held_out.relative_rms_60));
-        m.emplace_back("error_held_out_largest", number_text(w.test) + " against " + number_text(w.reference) + " (" +
-                                                     report.channels.name(w.channel) + ") at pair " +
-                                                     std::to_string(w.pair + 1) + " of " +
-                                                     std::to_string(report.held_out.pairs));
-    }
-    m.emplace_back("compression_rule", settings.compression.per_channel ? "per-channel" : "total");
-    m.emplace_back("horizon_closed", settings.close_horizon ? std::to_string(report.horizon_columns_closed) + " columns" : "no");
-    if (report.detail_not_kept) {
-        m.emplace_back("detail_not_kept", "held-out relative RMS of f_r cos " + number_text(report.detail_not_kept_held_out_rms) +
-                                              " with it, " + number_text(report.held_out.relative_rms) + " without");
-    }
-    if (report.has_detail) {
-        const DetailGrid& dg = model.detail_grid;
-        const DetailOptions& d = settings.detail;
-        m.emplace_back("detail_grid", std::to_string(dg.theta_h) + "x" + std::to_string(dg.theta_d) + "x" +
-                                          std::to_string(dg.phi_d));
-        m.emplace_back("detail_samples_per_cell", std::to_string(d.samples_per_cell));
-        m.emplace_back("detail_display_power", number_text(d.display_power));
-        m.emplace_back("detail_energy_weight", number_text(d.energy_weight));
-        m.emplace_back("detail_measure", d.measure == DetailOptions::Measure::SolidAngle ? "solid-angle" : "half-angle");
-        m.emplace_back("detail_clamp_passes", std::to_string(d.clamp_passes));
-        m.emplace_back("detail_rank", std::to_string(model.detail.rank));
-        m.emplace_back("detail_weighted_error_before", number_text(report.detail.weighted_error_before));
-        m.emplace_back("detail_weighted_error_after", number_text(report.detail.weighted_error_after));
-        m.emplace_back("detail_energy_error_before", number_text(report.detail.energy_error_before));
-        m.emplace_back("detail_energy_error_after", number_text(report.detail.energy_error_after));
-        if (settings.error_pairs > 0) {
-            m.emplace_back("error_detailed_rel_rms_mean", number_text(report.detailed_error.mean_relative_rms));
-            m.emplace_back("error_detailed_rel_rms_max", number_text(report.detailed_error.max_relative_rms));
-        }
-    }
-    m.emplace_back(npf_exr::kMetaAlbedoMax, number_text(report.albedo_max));
-    m.emplace_back(npf_exr::kMetaAlbedoMaxViewTheta, number_text(report.albedo_max_theta_deg));
-    {
-        std::string views;
-        for (double v : energy_error_views_deg()) views += (views.empty() ? "" : ",") + number_text(v);
-        m.emplace_back("energy_error", number_text(report.energy_error));
-        m.emplace_back("energy_error_view_theta", number_text(report.energy_error_theta_deg));
-        m.emplace_back("energy_error_channel", report.channels.name(report.energy_error_channel));
-        m.emplace_back("energy_error_views", views);
-    }
-    // The file's own size is not known before it is written; the source's is.
-    if (report.input_bytes > 0) m.emplace_back("source_bytes", std::to_string(report.input_bytes));
-    if (report.predicted) {
-        m.emplace_back("predicted_psnr", number_text(report.prediction.psnr));
-        if (report.prediction.floor_psnr != 0.0) m.emplace_back("predicted_psnr_floor", number_text(report.prediction.floor_psnr));
-        m.emplace_back("predicted_psnr_render", report.prediction_settings);
-        // A set: each lighting's figures too (predicted_psnr is the worst of them).
-        if (report.prediction.lightings.size() > 1) {
-            for (const LightingPrediction& l : report.prediction.lightings) {
-                m.emplace_back("predicted_psnr_" + l.lighting, number_text(l.psnr));
-                if (l.floor_psnr != 0.0) m.emplace_back("predicted_psnr_" + l.lighting + "_floor", number_text(l.floor_psnr));
-            }
-        }
-    }
-    if (target) {
-        std::string tried;
-        for (const ConvertReport::TargetCandidate& c : report.target_candidates) {
-            tried += (tried.empty() ? "" : " ") + grid_text(c.grid) + ":" + number_text(c.psnr);
-        }
-        m.emplace_back("target_psnr", number_text(settings.target_psnr));
-        m.emplace_back("target_psnr_met", report.target_met ? "true" : "false");
-        m.emplace_back("target_psnr_reached", number_text(report.prediction.psnr));
-        m.emplace_back("target_psnr_candidates", tried);
-    }
-    m.emplace_back("pca_d_ratio_requested", number_text(compression.d_ratio));
-    m.emplace_back("pca_g_ratio_requested", number_text(compression.g_ratio));
+    record_conversion(model, info, settings, o, compression, report);
 
     report.seconds = seconds_since(start);
     report.peak_memory_gib = peak_memory_gib();

@@ -1,6 +1,6 @@
 #include <npf/converter/convert_settings_table.h>
 
-#include "convert_settings_rows.h"
+#include "settings/setting_rows.h"
 
 #include <npf/core/channels.h>
 #include <npf/core/error.h>
@@ -13,29 +13,96 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 #include <limits>
+#include <mutex>
+#include <stdexcept>
 
 namespace npf {
 
+namespace settings_rows {
+
 namespace {
 
-using namespace settings_rows;
+// The groups' own rows, in the order of `npf convert --help` (the golden reference pins it): one
+// list, indexed by SettingGroup. A static library drops a file nothing refers to, so the
+// converter's groups are named here rather than registering themselves.
+Rows (*const kGroupSettings[])() = {source_settings, fit_grid_settings, fit_weight_settings, detail_settings, output_settings};
 
-ConvertSettingsTable make_table() {
-    ConvertSettingsTable t;
-    add_source_rows(t);
-    add_grid_rows(t);
-    add_weight_rows(t);
-    add_detail_rows(t);
-    add_output_rows(t);
-    return t;
+struct Registered {
+    std::size_t id;
+    SettingGroup group;
+    ConvertSettingRow row;
+};
+
+// The settings declared by SettingRegistration, and the tables built from them (rebuilt when a
+// registration begins or ends).
+struct Registry {
+    std::mutex mutex;
+    std::vector<Registered> registered;
+    std::size_t next_id = 0, changes = 0, built = std::size_t(-1);
+    ConvertSettingsTable all, user;
+};
+
+Registry& registry() {
+    static Registry r;
+    return r;
+}
+
+// Builds the tables under the registry's lock; the keys must be unique.
+void build_tables(Registry& r) {
+    if (r.built == r.changes) return;
+    r.all.clear();
+    r.user.clear();
+    for (std::size_t g = 0; g < std::size(kGroupSettings); ++g) {
+        for (Row& row : kGroupSettings[g]()) r.all.push_back(std::move(row));
+        for (const Registered& extra : r.registered) {
+            if (std::size_t(extra.group) == g) r.all.push_back(extra.row);
+        }
+    }
+    for (std::size_t i = 0; i < r.all.size(); ++i) {
+        for (std::size_t j = 0; j < i; ++j) {
+            if (r.all[i].key == r.all[j].key) throw std::logic_error("two conversion settings are called " + r.all[i].key);
+        }
+        if (!r.all[i].preset_only) r.user.push_back(r.all[i]);
+    }
+    r.built = r.changes;
 }
 
 }  // namespace
 
+const ConvertSettingsTable& all_settings() {
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.mutex);
+    build_tables(r);
+    return r.all;
+}
+
+}  // namespace settings_rows
+
+using namespace settings_rows;
+
+SettingRegistration::SettingRegistration(SettingGroup group, ConvertSettingRow row) {
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.mutex);
+    m_id = r.next_id++;
+    r.registered.push_back({m_id, group, std::move(row)});
+    ++r.changes;
+}
+
+SettingRegistration::~SettingRegistration() {
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.mutex);
+    r.registered.erase(std::remove_if(r.registered.begin(), r.registered.end(), [&](const Registered& x) { return x.id == m_id; }),
+                       r.registered.end());
+    ++r.changes;
+}
+
 const ConvertSettingsTable& convert_settings_table() {
-    static const ConvertSettingsTable table = make_table();
-    return table;
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.mutex);
+    build_tables(r);
+    return r.user;
 }
 
 const ConvertSettingRow* find_setting(const ConvertSettingsTable& table, const std::string& key) {
@@ -187,37 +254,48 @@ ConvertSettings resolve_convert_settings(const ConvertSettingsTable& table,
     for (std::size_t i = 0; i < table.size(); ++i) {
         if (values[i]) table[i].apply(s, *values[i]);
     }
+    // Asking for compression compresses RGB too (ConvertSettings::compress_rgb); a preset's
+    // ratio does not.
+    if (has("pca") || has("rank")) s.compress_rgb = true;
     return s;
 }
 
-std::string convert_settings_hash_text(const ConvertSettings& s, bool isotropic, const ConvertSettingsTable& table) {
-    std::vector<const ConvertSettingRow*> always;
-    for (const ConvertSettingRow& row : table) {
-        if (row.hash == SettingHash::Always) always.push_back(&row);
-    }
-    std::stable_sort(always.begin(), always.end(), [](const ConvertSettingRow* a, const ConvertSettingRow* b) { return a->hash_order < b->hash_order; });
+namespace {
+
+// Every row with its value's text, sorted by key: the canonical order.
+std::vector<std::pair<const Row*, std::string>> canonical_values(const ConvertSettings& s) {
+    std::vector<std::pair<const Row*, std::string>> values;
+    for (const Row& row : all_settings()) values.emplace_back(&row, row.read(s));
+    std::sort(values.begin(), values.end(), [](const auto& a, const auto& b) { return a.first->key < b.first->key; });
+    return values;
+}
+
+}  // namespace
+
+std::string convert_settings_canonical_text(const ConvertSettings& s) {
     std::string t;
-    for (const ConvertSettingRow* row : always) t += row->hash_lines ? row->hash_lines(s) : row->key + "=" + row->read(s) + "\n";
+    for (const auto& [row, value] : canonical_values(s)) t += row->key + "=" + value + "\n";
+    return t;
+}
+
+std::string convert_settings_hash_text(const ConvertSettings& s, bool isotropic) {
     const ConvertSettings preset = preset_settings(s.preset, isotropic);
-    for (const ConvertSettingRow& row : table) {
-        if (row.hash != SettingHash::WhenChanged) continue;
-        const std::string value = row.read(s);
-        if (value != row.read(preset)) t += row.key + "=" + value + "\n";
+    std::string t;
+    for (const auto& [row, value] : canonical_values(s)) {
+        const bool in = row->hash == SettingHash::Always || (row->hash == SettingHash::WhenChanged && value != row->read(preset));
+        if (in) t += row->key + "=" + value + "\n";
     }
     return t;
 }
 
-std::vector<std::pair<std::string, std::string>> convert_settings_metadata(const ConvertSettings& fitted, int first, int last,
-                                                                          const ConvertSettingsTable& table) {
-    std::vector<const Row*> rows;
-    for (const Row& r : table) {
-        if (r.metadata && r.metadata_order >= first && r.metadata_order <= last) rows.push_back(&r);
-    }
-    std::stable_sort(rows.begin(), rows.end(), [](const Row* a, const Row* b) { return a->metadata_order < b->metadata_order; });
+std::vector<std::pair<std::string, std::string>> convert_settings_metadata(const ConvertSettings& fitted) {
     Lines lines;
-    for (const Row* r : rows) {
-        for (auto& line : r->metadata(fitted)) lines.push_back(std::move(line));
+    for (const auto& value : canonical_values(fitted)) {
+        if (!value.first->metadata) continue;
+        for (auto& line : value.first->metadata(fitted)) lines.push_back(std::move(line));
     }
+    // A row's lines are named for the file's reader (fit_grid for grid): sorted by those names.
+    std::stable_sort(lines.begin(), lines.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     return lines;
 }
 

@@ -17,7 +17,9 @@ namespace npf::batch {
 
 // Version of the content hash's recipe: bumped whenever the converter's output for the same
 // inputs and settings changes without a change of the npf version, so that outputs redo.
-inline constexpr int kContentHashVersion = 1;
+// 2: the settings' lines are the canonical text's, sorted by key (docs/batch.md): every output
+// of version 1 is rebuilt once.
+inline constexpr int kContentHashVersion = 2;
 
 struct Shard {
     int index = 0, count = 1;  // 0 <= index < count

@@ -1,6 +1,9 @@
 // The conversion settings, one row each: `npf convert`'s flags and their help, the batch
-// configuration's keys, their checks, the batch content hash text and how each is applied to
-// ConvertSettings all read this table, so that a new setting is one row (issue 18).
+// configuration's keys, their checks, the presets (key=value lines applied through the rows),
+// the batch content hash text and the factor texture's settings metadata all read this table.
+// Each row is declared beside the code that uses it (converter/src/settings/: the fitter's, the
+// detail layer's, the source's and the outputs'), so that a new setting is one declaration
+// there, or a SettingRegistration anywhere else (issue 36).
 #pragma once
 
 #include <npf/converter/convert.h>
@@ -24,11 +27,15 @@ enum class SettingKind {
 
 // How a setting enters the batch content hash text (convert_settings_hash_text).
 enum class SettingHash {
-    Always,       // its lines at `hash_order`: the text of content hash version 1
-    WhenChanged,  // "key=value" after those, only where it differs from the preset's value, so
-                  // that adding a setting keeps every earlier output up to date
-    Never,        // does not change the file (threads; see also target_psnr's row)
+    Always,       // its "key=value" line, whatever the value
+    WhenChanged,  // its line only where it differs from the preset's value, so that adding a
+                  // setting keeps every earlier output up to date (the default for a new row)
+    Never,        // does not change the file (threads; see also target_psnr's row), or another
+                  // row's line holds what it sets (plain: acceleration)
 };
+
+// The groups of `npf convert --help`, in its order.
+enum class SettingGroup { Source, Grid, Weights, Detail, Output };
 
 // A value as checked: its text, and for Whole and Number its parts; for Switch `on`.
 struct SettingValue {
@@ -55,24 +62,40 @@ struct ConvertSettingRow {
     std::function<void(const std::string& text, const std::string& what)> check;
     std::string help;  // `npf convert --help`
     SettingHash hash = SettingHash::WhenChanged;
-    int hash_order = 0;            // Always rows: the position of their lines
     bool changes_output = true;    // false: threads (the fit is the same on any count)
+    // Set by the presets alone (the paper preset's line search, the preview's smaller
+    // prediction): no flag, no batch key, no help; still in the hash text and the metadata.
+    bool preset_only = false;
     bool takes_list = false;       // a batch value may be a YAML sequence, joined by commas
     std::function<void(ConvertSettings&, const SettingValue&)> apply;
-    // The value in the row's own syntax ("90,1,90,180", "smith"), from resolved settings.
+    // The value in the row's own syntax ("90,1,90,180", "smith"), from resolved settings: what
+    // `apply` reads back to the same settings (the canonical text, the presets' defaults).
     std::function<std::string(const ConvertSettings&)> read;
-    // Always rows whose hash lines are not "key=read\n" (content hash version 1's own names).
-    std::function<std::string(const ConvertSettings&)> hash_lines;
     // Its lines in a factor texture's metadata (npf:meta:KEY = VALUE) from the settings as
-    // fitted (after isotropy), in `metadata_order` among the rows (convert_settings_metadata);
-    // none where empty or where it gives none.
-    int metadata_order = 0;
+    // fitted (after isotropy; the detail grid the one written); none where empty or where it
+    // gives none (convert_settings_metadata sorts them by key).
     std::function<std::vector<std::pair<std::string, std::string>>(const ConvertSettings&)> metadata;
 };
 
 using ConvertSettingsTable = std::vector<ConvertSettingRow>;
 
-// The settings, in the order of `npf convert --help`.
+// Declares a setting from outside the converter's own files (a plug-in, a test): while the
+// object lives, `row` is in the table at the end of its group, and in the hash text and the
+// metadata. Make it before any thread reads the table (at static initialisation, or in a
+// test's body); a reference to the table is good until the next registration ends or begins.
+class SettingRegistration {
+public:
+    SettingRegistration(SettingGroup group, ConvertSettingRow row);
+    ~SettingRegistration();
+    SettingRegistration(const SettingRegistration&) = delete;
+    SettingRegistration& operator=(const SettingRegistration&) = delete;
+
+private:
+    std::size_t m_id;
+};
+
+// The settings a user may give, in the order of `npf convert --help` (the groups in order, the
+// rows of a group as their file declares them).
 const ConvertSettingsTable& convert_settings_table();
 // The row of `key` in `table`, or nullptr.
 const ConvertSettingRow* find_setting(const ConvertSettingsTable& table, const std::string& key);
@@ -99,15 +122,17 @@ ConvertSettings resolve_convert_settings(const ConvertSettingsTable& table,
                                          const std::function<std::string(const ConvertSettingRow&)>& name_of,
                                          bool source_isotropic);
 
-// The resolved settings as the batch content hash holds them, one "name=value" per line
-// (docs/batch.md); `isotropic`: the fitted factors' (WhenChanged rows compare with that preset).
-std::string convert_settings_hash_text(const ConvertSettings& settings, bool isotropic,
-                                       const ConvertSettingsTable& table = convert_settings_table());
+// The canonical text of resolved settings: every row's "key=value" line (the presets' own rows
+// included), sorted by key. The hash text and the metadata follow its order.
+std::string convert_settings_canonical_text(const ConvertSettings& settings);
 
-// The metadata lines of the rows whose metadata_order is in [first, last], in that order
-// (convert_material writes its results between such runs: the file's order of keys is its
-// bytes).
-std::vector<std::pair<std::string, std::string>> convert_settings_metadata(
-    const ConvertSettings& fitted, int first, int last, const ConvertSettingsTable& table = convert_settings_table());
+// The resolved settings as the batch content hash holds them (docs/batch.md): the canonical
+// text's lines of the rows that enter it (SettingHash); `isotropic`: the fitted factors'
+// (WhenChanged rows compare with that preset).
+std::string convert_settings_hash_text(const ConvertSettings& settings, bool isotropic);
+
+// The settings' metadata lines of a factor texture, sorted by key (the file's order of keys is
+// its bytes: docs/format.md).
+std::vector<std::pair<std::string, std::string>> convert_settings_metadata(const ConvertSettings& fitted);
 
 }  // namespace npf

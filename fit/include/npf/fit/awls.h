@@ -25,7 +25,7 @@ namespace npf {
 enum class VolumeWeight { Paper, ThreeAngle };
 
 // The fit's own bounds on its options: fit_awls refuses options outside them, and `npf
-// convert`'s and the batch's settings take their ranges from here (convert_settings_table.cpp).
+// convert`'s and the batch's settings take their ranges from here (converter/src/settings/fit_settings.cpp).
 namespace awls_limits {
 inline constexpr int kMinCells = 2;       // theta_h, theta_d, phi_d and the G table's theta
 inline constexpr int kMinPhiCells = 1;    // phi_h and the G table's phi (1: isotropic)

@@ -31,6 +31,13 @@
 
 namespace npf {
 
+// The detail fit's bounds on the options `npf convert` and the batch offer
+// (converter/src/settings/detail_settings.cpp takes its ranges from here).
+namespace detail_limits {
+inline constexpr double kMaxDisplayPower = 4.0;  // display_power
+inline constexpr int kMaxClampPasses = 16;
+}  // namespace detail_limits
+
 struct DetailOptions {
     DetailGrid grid;                // empty: no detail layer (the paper's model)
     int samples_per_cell = 3;       // per axis: the data samples, a regular grid of this many per cell
