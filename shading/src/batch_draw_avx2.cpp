@@ -1,7 +1,7 @@
 // The batched sample's draws for AVX2 (batch_draw.h). Compiled with -mavx2 and without FMA
 // (CMakeLists.txt), called only where the CPU has AVX2 (npf_batch.cpp). Float steps run in float
 // lanes and double steps in double lanes, each the scalar code's IEEE operation, so the draws
-// equal NpfClosure::draw_light's to the bit (tests/test_batch_closure.cpp).
+// equal NpfClosure::draw_light's to the bit (shading/tests/test_batch_closure.cpp).
 #include "batch_draw.h"
 
 #if defined(__AVX2__)

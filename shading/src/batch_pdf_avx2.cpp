@@ -1,7 +1,7 @@
 // The batched closure's pdf for AVX2 (batch_pdf.h). Compiled with -mavx2 and without FMA
 // (CMakeLists.txt), called only where the CPU has AVX2 (npf_batch.cpp). Each step is the scalar
 // code's IEEE operation on four lanes, so the pdfs equal NpfClosure::pdf_at's to the bit
-// (tests/test_batch_closure.cpp); the float lanes' version takes the same steps in float.
+// (shading/tests/test_batch_closure.cpp); the float lanes' version takes the same steps in float.
 #include "batch_pdf.h"
 
 #if defined(__AVX2__)

@@ -3,8 +3,8 @@
 // Compiled with -mavx2 and without FMA (CMakeLists.txt), called only where the CPU has AVX2
 // (npf_batch.cpp). Every sum below is NpfModel::position's and NpfModel::value's, term for term in
 // their order, so that each double lane gets the scalar closure's bits
-// (tests/test_batch_closure.cpp); float lanes are held to the float budget
-// (tests/test_batch_float.cpp). Compiled twice: as itself, the double lanes (values_avx2), and
+// (shading/tests/test_batch_closure.cpp); float lanes are held to the float budget
+// (shading/tests/test_batch_float.cpp). Compiled twice: as itself, the double lanes (values_avx2), and
 // through batch_values_float_avx2.cpp with NPF_BATCH_VALUES_FLOAT, the float lanes
 // (values_float_avx2) with FMA and contracted multiply-adds, which only they may have.
 #include "batch_values.h"

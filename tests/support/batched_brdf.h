@@ -1,7 +1,7 @@
 // An npf::Brdf whose eval_cos is the batched closure's (NpfClosure::eval_batch with the pair in
 // all eight lanes of a batch), so that a render (npf/render) can shade through either of the
 // batch's precisions: the paired render of the float budget (docs/shading.md) compares the two.
-// Header-only: tests/test_batch_float.cpp and bench/batch_floor.cpp.
+// Header-only: shading/tests/test_batch_float.cpp and bench/batch_floor.cpp.
 #pragma once
 
 #include <npf/shading/npf_batch.h>

@@ -4,8 +4,8 @@
 // vector code four pairs at a time (AVX2 where the CPU has it; else the scalar code pair by pair).
 // With BatchPrecision::Double, results equal the scalar closure's to the bit on either instruction
 // set (the same arithmetic, no fused multiply-add; the choice is npf/core/simd_isa.h's), which
-// tests/test_batch_closure.cpp checks. BatchPrecision::Float evaluates eight pairs at a time in
-// float lanes within a stated error budget (docs/shading.md; tests/test_batch_float.cpp).
+// shading/tests/test_batch_closure.cpp checks. BatchPrecision::Float evaluates eight pairs at a time in
+// float lanes within a stated error budget (docs/shading.md; shading/tests/test_batch_float.cpp).
 #pragma once
 
 #include <cstddef>

@@ -213,7 +213,7 @@ void write_image_texture(const std::string& path) {
 // The block docs/farms.md marks as the one this test runs.
 std::string documented_workflow() {
     const std::string doc = npf::testing::read_text(std::string(NPF_SOURCE_DIR) + "/docs/farms.md");
-    const std::size_t marker = doc.find("<!-- tests/test_farm_safety.cpp runs the next block");
+    const std::size_t marker = doc.find("<!-- tools/npf/tests/test_farm_safety.cpp runs the next block");
     const std::size_t begin = doc.find("```sh\n", marker);
     const std::size_t end = doc.find("```\n", begin + 6);
     if (marker == std::string::npos || begin == std::string::npos || end == std::string::npos) return "";

@@ -2,11 +2,11 @@
 // usage errors as one line on stderr, --help on stdout, "--" ending the options, flag order,
 // and the --json forms of info and eval carrying what their text carries.
 #include "cli_run.h"
+#include "command_line.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
-// The parser itself, compiled in: tools/npf is not a library the tests link.
-#include "../tools/npf/command_line.cpp"
+#include <npf/core/error.h>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Tests of the sigmoid-polynomial RGB upsampling (npf/color/rgb_sigmoid.h): round trips through
 // spectrum_to_xyz for the table and the refined fit, greys, bounds, HDR scaling and emitters.
-#include "../ocio/src/sigmoid_fit.h"
+#include "../src/sigmoid_fit.h"
 
 #include <npf/color/rgb_sigmoid.h>
 #include <npf/color/spectrum.h>
