@@ -3,6 +3,7 @@
 #include "command_line.h"
 #include "commands.h"
 
+#include <npf/materials/material_formats.h>
 #include <npf/materials/open_material.h>
 #include <npf/core/number_text.h>
 #include <npf/core/error.h>
@@ -24,10 +25,12 @@ const std::vector<FlagSpec> kFlags = flag_table({
     "--json  print a JSON array, one object per file, instead of the text",
     "--check  only check that each FILE would shade: one line per file, 'ok: FILE' or 'error: FILE: "
     "PROBLEM'; exit 1 if any would not",
+    "--formats  print the material formats npf reads, each with its documentation (Markdown; the "
+    "text of docs/measured-readers.md), and no FILE",
 });
 
 const char* kHelp =
-    "usage: npf info FILE... [--json] [--check]\n\nPrints format, isotropy, channels (wavelength range "
+    "usage: npf info FILE... [--json] [--check]\n       npf info --formats\n\nPrints format, isotropy, channels (wavelength range "
     "and count), grid sizes, description and size of each material: RGL .bsdf, MERL .binary, NPF "
     "texture .exr, Neural BRDF .h5 or analytic recipe .yaml.\n\nWith --check, opens each file as "
     "a renderer would (factor textures as NpfClosure does, on both paths) and prints one line per "
@@ -135,6 +138,11 @@ int run_check(const std::vector<std::string>& paths, bool json) {
 
 int run_info(const std::vector<std::string>& args) {
     const CommandLine cl = read_command_line(kHelp, kFlags, args);
+    if (cl.has("--formats")) {
+        cl.expect_positional(0, 0, "no FILE with --formats");
+        std::fputs(describe_material_formats().c_str(), stdout);
+        return 0;
+    }
     cl.expect_positional(1, SIZE_MAX, "one or more FILEs");
     const bool json = cl.has("--json");
     if (cl.has("--check")) return run_check(cl.positional(), json);

@@ -7,6 +7,8 @@
 #include "cli_run.h"
 #include "synthetic_rgl.h"
 
+#include <npf/materials/material_formats.h>
+
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -130,6 +132,20 @@ TEST(CliInfo, Errors) {
     r = run_npf({"info", "--bogus", cli_materials().rgb});
     EXPECT_NE(r.status, 0) << describe(r);
     EXPECT_TRUE(contains(r.err, "unknown option '--bogus'")) << describe(r);
+}
+
+// npf info --formats prints what the registry holds: every shipped format's documentation, the
+// text docs/measured-readers.md carries (MaterialFormatDocs.*), and takes no FILE.
+TEST(CliInfo, FormatsPrintsEachFormatsDocumentation) {
+    ToolRun r = run_npf({"info", "--formats"});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    // (A format a test registers in this process has no documentation, so it is not described.)
+    EXPECT_EQ(r.out, npf::describe_material_formats());
+    for (const npf::MaterialFormat& f : npf::shipped_material_formats())
+        EXPECT_TRUE(contains(r.out, "## " + f.title + "\n")) << f.title;
+    r = run_npf({"info", "--formats", cli_materials().rgb});
+    EXPECT_EQ(r.status, 2) << describe(r);
+    EXPECT_TRUE(contains(r.err, "no FILE with --formats")) << describe(r);
 }
 
 // ---- npf eval: output format --------------------------------------------------------------
