@@ -33,25 +33,38 @@ namespace npf::cli {
 
 namespace {
 
-const std::vector<FlagSpec> kFlags = {
-    {"-o", true, "output OpenEXR (float RGBA, scene-linear Rec.709, premultiplied alpha), required"},
-    {"--light", true, "studio (default: the shipped map), key-rim (a sky with a key and a grazing rim disc), directional (the "
-                      "key and rim as delta lights, no Monte Carlo) or a lat-long map file (docs/render.md)"},
-    {"--env", true, "lat-long HDR environment map (or a --light name)"},
-    {"--png", true, "also write a display-encoded 8-bit PNG through OpenColorIO"},
-    {"--size", true, "image size in pixels: N (square) or WxH (default 256)"},
-    {"--spp", true, "samples per pixel (default 64)"},
-    {"--seed", true, "random seed, a whole number >= 0 (default 0)"},
-    {"--scene", true, "scene: sphere (default; the only one)"},
-    {"--threads", true, "threads (default: all cores)"},
-    {"--wavelengths", true, "rgb, start:end:count or a,b,c nm (default: as the material stores)"},
-    {"--sampling", true, "mis (default), brdf or env: both strategies with MIS, or one alone (to check convergence)"},
-    {"--exposure", true, "stops applied to the PNG only (default 0; the EXR stays scene-linear)"},
-    {"--raw", false, "keep a measured file's negative (out-of-gamut) values, as Mitsuba's measured plugin does, instead of "
-                     "clamping them to 0 as the RGL loader does"},
-    {"--quiet", false, "no progress bar"},
-    {"--help", false, "show this help"},
-};
+const std::vector<FlagSpec> kFlags = flag_table({
+    "-o VALUE  output OpenEXR (float RGBA, scene-linear Rec.709, premultiplied alpha), required",
+    "--light VALUE  studio (default: the shipped map), key-rim (a sky with a key and a grazing rim disc), directional (the "
+    "key and rim as delta lights, no Monte Carlo) or a lat-long map file (docs/render.md)",
+    "--env VALUE  lat-long HDR environment map (or a --light name)",
+    "--png VALUE  also write a display-encoded 8-bit PNG through OpenColorIO",
+    "--size VALUE  image size in pixels: N (square) or WxH (default 256)",
+    "--spp VALUE  samples per pixel (default 64)",
+    "--seed VALUE  random seed, a whole number >= 0 (default 0)",
+    "--scene VALUE  scene: sphere (default; the only one)",
+    "--threads VALUE  threads (default: all cores)",
+    "--wavelengths VALUE  rgb, start:end:count or a,b,c nm (default: as the material stores)",
+    "--sampling VALUE  mis (default), brdf or env: both strategies with MIS, or one alone (to check convergence)",
+    "--exposure VALUE  stops applied to the PNG only (default 0; the EXR stays scene-linear)",
+    "--raw  keep a measured file's negative (out-of-gamut) values, as Mitsuba's measured plugin does, instead of "
+    "clamping them to 0 as the RGL loader does",
+    "--quiet  no progress bar",
+});
+
+const char* kHelp =
+    "usage: npf render MATERIAL -o OUT.exr [--light studio|key-rim|directional|MAP.exr] [--png OUT.png]\n"
+    "                  [--size N|WxH] [--spp N]\n"
+    "                  [--seed S] [--scene sphere] [--threads N] [--wavelengths LIST] [--exposure E]\n"
+    "                  [--sampling mis|brdf|env] [--quiet]\n\n"
+    "Renders the paper's Sphere scene: a unit sphere with a tangent field around its vertical axis,\n"
+    "lit by a lat-long environment map (a named lighting or a file), with multiple importance sampling\n"
+    "of the material and the map, or by directional lights without Monte Carlo. MATERIAL is an RGL .bsdf, MERL .binary, NPF texture .exr or analytic recipe .yaml. RGB\n"
+    "materials render in RGB, spectral ones at a fixed wavelength quadrature, integrated to CIE XYZ\n"
+    "and written as linear Rec.709. The image depends only on the material, the map, the options\n"
+    "and the seed (not on --threads); the same seed gives different materials the same random\n"
+    "numbers. docs/render.md has the conventions. Example:\n"
+    "  npf render brushed_copper.yaml -o copper.exr --png copper.png --spp 256\n\n";
 
 std::string describe_channels(const Channels& c) {
     if (c.is_rgb()) return "RGB";
@@ -64,23 +77,7 @@ std::string describe_channels(const Channels& c) {
 }  // namespace
 
 int run_render(const std::vector<std::string>& args) {
-    CommandLine cl("render", args, kFlags);
-    if (cl.has("--help")) {
-        std::printf("usage: npf render MATERIAL -o OUT.exr [--light studio|key-rim|directional|MAP.exr] [--png OUT.png]\n"
-                    "                  [--size N|WxH] [--spp N]\n"
-                    "                  [--seed S] [--scene sphere] [--threads N] [--wavelengths LIST] [--exposure E]\n"
-                    "                  [--sampling mis|brdf|env] [--quiet]\n\n"
-                    "Renders the paper's Sphere scene: a unit sphere with a tangent field around its vertical axis,\n"
-                    "lit by a lat-long environment map (a named lighting or a file), with multiple importance sampling\n"
-                    "of the material and the map, or by directional lights without Monte Carlo. MATERIAL is an RGL .bsdf, MERL .binary, NPF texture .exr or analytic recipe .yaml. RGB\n"
-                    "materials render in RGB, spectral ones at a fixed wavelength quadrature, integrated to CIE XYZ\n"
-                    "and written as linear Rec.709. The image depends only on the material, the map, the options\n"
-                    "and the seed (not on --threads); the same seed gives different materials the same random\n"
-                    "numbers. docs/render.md has the conventions. Example:\n"
-                    "  npf render brushed_copper.yaml -o copper.exr --png copper.png --spp 256\n\n%s",
-                    usage_lines(kFlags).c_str());
-        return 0;
-    }
+    const CommandLine cl = read_command_line(kHelp, kFlags, args);
     cl.expect_positional(1, 1, "one MATERIAL");
     cl.require("-o");
     const std::string material_path = cl.positional()[0], output = cl.value("-o");
