@@ -209,6 +209,21 @@ TEST(BatchCli, ConfigurationErrorsNameTheLine) {
     EXPECT_EQ(shard.status, 1);
 }
 
+// A --worker-executable that is not an executable file is refused before anything runs (exit 1,
+// the file named, no output folder), rather than failing every material alike.
+TEST(BatchCli, AWorkerExecutableThatCannotRunIsRefusedFirst) {
+    const std::string dir = npf::testing::temporary_folder("batch-worker-executable");
+    fs::create_directories(dir + "/in");
+    const std::string cfg = write_batch_config(dir + "/batch.yaml", dir + "/in", dir + "/out");
+    npf::testing::write_text(dir + "/not_a_program", "text\n");
+    for (const std::string& program : {dir + "/missing", dir + "/not_a_program", dir + "/in"}) {
+        const ToolRun r = batch_run({cfg, "--worker-executable", program});
+        EXPECT_EQ(r.status, 1) << describe(r);
+        EXPECT_TRUE(contains(r.err, program + ": not an executable file (--worker-executable)")) << describe(r);
+        EXPECT_FALSE(fs::exists(dir + "/out")) << program;
+    }
+}
+
 TEST(BatchCli, EditsAndValidationRendersAreApplied) {
     const std::string dir = npf::testing::temporary_folder("batch-edit");
     write_library(dir + "/in", false);

@@ -191,6 +191,11 @@ int run_batch(const std::vector<std::string>& args) {
     if (cl.has("--worker-executable")) {
         if (cl.has("--in-process")) throw Error("--worker-executable", "give --worker-executable or --in-process, not both");
         options.worker_executable = cl.value("--worker-executable");
+        // Checked before anything runs: otherwise every material would fail alike.
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(options.worker_executable, ec) ||
+            ::access(options.worker_executable.c_str(), X_OK) != 0)
+            throw Error(options.worker_executable, "not an executable file (--worker-executable)");
     }
     const std::string base = cl.has("--summary") ? cl.value("--summary") : batch::summary_base(config, options.shard);
     const std::string summary_folder = std::filesystem::path(base).parent_path().string();
