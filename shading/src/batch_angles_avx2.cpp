@@ -79,8 +79,12 @@ std::size_t domains_avx2(std::size_t n, const float* const view[3], const float*
             for (int c = 0; c < 3; ++c)
                 ok = _mm256_and_ps(ok, _mm256_cmp_ps(_mm256_andnot_ps(sign, _mm256_loadu_ps(d[c] + i)), largest, _CMP_LE_OQ));
         }
-        const int bits = _mm256_movemask_ps(ok);
-        for (int k = 0; k < 8; ++k) valid[i + std::size_t(k)] = std::uint8_t((bits >> k) & 1);
+        // The lanes (all ones or 0) as eight bytes of 1 or 0: packed to 16, then 8 bits per
+        // 128-bit half, whose first four bytes each are the half's lanes.
+        const __m256i one = _mm256_and_si256(_mm256_castps_si256(ok), _mm256_set1_epi32(1));
+        const __m256i bytes = _mm256_packs_epi16(_mm256_packs_epi32(one, one), _mm256_setzero_si256());
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(valid + i),
+                         _mm_unpacklo_epi32(_mm256_castsi256_si128(bytes), _mm256_extracti128_si256(bytes, 1)));
     }
     return i;
 }

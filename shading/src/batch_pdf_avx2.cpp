@@ -28,7 +28,8 @@ __m128i cell_of(Double4 x, int last) {
 }  // namespace
 
 std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const double* theta_h,
-                      const double* u_h, const double* phi_h, const double* cos_d, const double* cos_light, float* pdf) {
+                      const double* u_h, const double* phi_h, const double* cos_d, const double* cos_light,
+                      const std::uint8_t* valid, float* pdf) {
     if (sampler.empty() || !(diffuse_probability < 1.0)) return 0;
     const std::vector<AliasTable::Bin>& bins = sampler.cells().bins();
     const double* inv_solid_angle = sampler.inv_solid_angle().data();
@@ -53,16 +54,18 @@ std::size_t pdfs_avx2(const HalfVectorSampler& sampler, double diffuse_probabili
         // pdf_at: the mixture with the cosine strategy, then finite_float.
         Double4 p = pd * simd::load4(cos_light + i) * Double4(1.0 / kPiD);
         p = simd::select(cd > Double4(0.0), p + spec_share * sampler_pdf / (Double4(4.0) * cd), p);
-        _mm_storeu_ps(pdf + i, _mm256_cvtpd_ps(simd::finite_float_of(p).v));
+        p = simd::finite_float_of(p);
+        if (valid) p = simd::select(simd::nonzero_bytes4(valid + i), p, Double4(0.0));
+        _mm_storeu_ps(pdf + i, _mm256_cvtpd_ps(p.v));
     }
     return groups;
 }
 
 std::size_t pdfs_float_avx2(const HalfVectorSampler& sampler, double diffuse_probability, std::size_t n, const float* theta_h,
-                            const float* u_h, const float* phi_h, const float* cos_d, const float* cos_light, float* pdf) {
+                            const float* u_h, const float* phi_h, const float* cos_d, const float* cos_light,
+                            const std::uint8_t* valid, float* pdf) {
     if (sampler.empty() || !(diffuse_probability < 1.0)) return 0;
-    const std::vector<AliasTable::Bin>& bins = sampler.cells().bins();
-    const double* inv_solid_angle = sampler.inv_solid_angle().data();
+    const float* density = sampler.cell_density().data();
     const int rows = sampler.theta_cells(), columns = sampler.phi_cells();
     const Float8 pd(diffuse_probability), spec_share(1.0 - diffuse_probability);
     const __m256i last_row = _mm256_set1_epi32(rows - 1), last_column = _mm256_set1_epi32(columns - 1), zero = _mm256_setzero_si256();
@@ -74,16 +77,13 @@ std::size_t pdfs_float_avx2(const HalfVectorSampler& sampler, double diffuse_pro
         const __m256i k_cell = _mm256_max_epi32(_mm256_min_epi32(_mm256_cvttps_epi32((u * Float8(double(rows))).v), last_row), zero);
         const __m256i j_cell = _mm256_max_epi32(
             _mm256_min_epi32(_mm256_cvttps_epi32((phi / Float8(kTwoPiD) * Float8(double(columns))).v), last_column), zero);
-        alignas(32) std::int32_t k[8], j[8];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(k), k_cell);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(j), j_cell);
-        alignas(32) float mass[8];
-        for (int l = 0; l < 8; ++l)
-            mass[l] = float(double(bins[std::size_t(k[l]) * std::size_t(columns) + std::size_t(j[l])].pmf) * inv_solid_angle[k[l]]);
-        const Float8 sampler_pdf = Float8(_mm256_and_ps(inside, simd::load8(mass).v));
+        const __m256i cell = columns == 1 ? k_cell : _mm256_add_epi32(_mm256_mullo_epi32(k_cell, _mm256_set1_epi32(columns)), j_cell);
+        const Float8 sampler_pdf = Float8(_mm256_and_ps(inside, simd::gather(density, cell).v));
         Float8 p = pd * simd::load8(cos_light + i) * Float8(1.0 / kPiD);
         p = simd::select(cd > Float8(0.0), p + spec_share * sampler_pdf / (Float8(4.0) * cd), p);
-        simd::store8(pdf + i, simd::finite_float_of(p));
+        p = simd::finite_float_of(p);
+        if (valid) p = simd::select(simd::nonzero_bytes8(valid + i), p, Float8(0.0));
+        simd::store8(pdf + i, p);
     }
     return groups;
 }
@@ -92,11 +92,11 @@ std::size_t pdfs_float_avx2(const HalfVectorSampler& sampler, double diffuse_pro
 #else
 namespace npf::batch_detail {
 std::size_t pdfs_avx2(const HalfVectorSampler&, double, std::size_t, const double*, const double*, const double*,
-                      const double*, const double*, float*) {
+                      const double*, const double*, const std::uint8_t*, float*) {
     return 0;
 }
 std::size_t pdfs_float_avx2(const HalfVectorSampler&, double, std::size_t, const float*, const float*, const float*,
-                            const float*, const float*, float*) {
+                            const float*, const float*, const std::uint8_t*, float*) {
     return 0;
 }
 }  // namespace npf::batch_detail

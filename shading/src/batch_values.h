@@ -27,11 +27,13 @@ inline bool vector_values_apply(const NpfModel& m) {
     return m.D.rank <= kVectorRank && m.G.rank <= kVectorRank && m.detail.rank <= kVectorRank;
 }
 
+std::size_t padded_detail_cell_count(const DetailGrid& grid);
+
 // Float lanes compute cell indices in float: exact below 2^24, which every table's size is far
 // below; a model with a larger table takes the double path.
 inline bool float_values_apply(const NpfModel& m) {
     constexpr std::size_t kExact = std::size_t(1) << 23;  // with room for the paired copies' padding
-    return vector_values_apply(m) && m.D.cells < kExact && m.G.cells < kExact && m.detail.cells < kExact &&
+    return vector_values_apply(m) && m.D.cells < kExact && m.G.cells < kExact && padded_detail_cell_count(m.detail_grid) < kExact &&
            m.F.size() < kExact && m.D.weights.size() < kExact && m.G.weights.size() < kExact &&
            m.detail.weights.size() < kExact;
 }
@@ -45,16 +47,25 @@ struct ValueRequestOfBlock {
     std::size_t count = 0;  // values per pair
 };
 
-// A table of ranks up to 4 cell by cell, four floats per cell ([cell][4], ranks beyond its own
-// 0): what values_avx2 loads a cell's ranks from at once. Empty for more than 4 tables.
-std::vector<float> cell_major_of(const float* tables, int count, std::size_t cells);
-// A basis of rank up to 4 over a rows x cols table, cell by cell as above and padded so that the
-// two cells an interpolation blends along one axis lie side by side (one load of eight floats per
-// lane): pair_rows (a table of one column), one row more, a copy of the last (which the clamped
-// and extrapolated row rules pair the last row with, or with the next); else each row has a
-// column more, a copy of its first (the periodic column rule's neighbour of the last). Empty for
-// a rank above 4.
+// Up to four tables of rows x cols cells each (table k at tables + k rows cols) cell by cell, four
+// floats per cell (tables beyond `count` 0), padded so that the two cells an interpolation blends
+// along one axis lie side by side (one load of eight floats per lane): pair_rows (a table of one
+// column), one row more, a copy of the last (which the clamped and extrapolated row rules pair
+// the last row with, or with the next); else each row has a column more, a copy of its first (the
+// periodic column rule's neighbour of the last). Empty for more than four tables.
+std::vector<float> paired_cells_of(const float* tables, int count, int rows, int cols, bool pair_rows);
+// The same of a basis' ranks (empty for a rank above 4).
 std::vector<float> paired_cells_of(const SpectralBasis& s, int rows, int cols, bool pair_rows);
+
+// The detail layer's ranks (up to four tables over `grid`) cell by cell, four floats per cell,
+// padded on every axis so that the corners of a trilinear lookup lie at fixed offsets from the
+// first (detail_corner_offsets): theta_h and theta_d one row more, a copy of the last (which the
+// clamped rule pairs the last row with, at weight 0), phi_d a column more, a copy of the first
+// (the periodic neighbour of the last). Empty for more than four tables or no grid.
+std::vector<float> padded_detail_cells_of(const float* tables, int count, const DetailGrid& grid);
+// Cells in that copy, and the offsets (in cells) of the corner pairs q = 2a + b (a: the upper
+// theta_h row, b: the upper theta_d row) from the cell at (h.i0, d.i0, p.i0).
+void detail_corner_offsets(const DetailGrid& grid, std::size_t offset[4]);
 
 // A basis recombined channel by channel: rank c is channel c's table (the sum of the ranks by its
 // weights, in double, rounded to float), the weights the identity. Interpolation commutes with
@@ -73,8 +84,8 @@ std::vector<float> channel_records_of(const NpfModel& m);
 struct CellMajorBases {
     const float* d = nullptr;
     const float* g = nullptr;
-    const float* detail = nullptr;
-    const float* f = nullptr;  // F of up to four channels, cell by cell (the stored channels' F at once)
+    const float* detail = nullptr;  // padded_detail_cells_of, as channel_detail
+    const float* f = nullptr;  // F of up to four channels, paired rows (the stored channels' F at once)
     const float* channel_records = nullptr;
     // Paired copies of channel_tables_of's D, G and detail layer (the detail's null without one),
     // for the float lanes' stored channels; d null where absent.
@@ -95,5 +106,13 @@ std::size_t values_avx2(const NpfModel& m, const CellMajorBases& cells, const Bl
 std::size_t values_float_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<float>& angles,
                               std::size_t count, const std::uint8_t* valid, const ValueRequestOfBlock& request,
                               std::size_t first, float* values, std::size_t n);
+
+// The float lanes' path for stored channels (batch_stored_channels_float_avx2.cpp): where the
+// request is the stored channels, at most four, and `cells` has each channel's own copies (D, G,
+// the detail layer's) and F's paired rows. values_float_avx2 takes it there.
+bool stored_channels_float_apply(const NpfModel& m, const CellMajorBases& cells, const ValueRequestOfBlock& request);
+std::size_t stored_channels_float_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<float>& angles,
+                                       std::size_t count, const std::uint8_t* valid, std::size_t first, float* values,
+                                       std::size_t n);
 
 }  // namespace npf::batch_detail

@@ -10,12 +10,10 @@
 #include "batch_values.h"
 
 #if defined(__AVX2__)
-#include "simd_double4.h"
-#include "simd_float8.h"
+#include "batch_lanes_avx2.h"
 
 #include <npf/shading/npf_equation.h>
 
-#include <type_traits>
 
 namespace npf::batch_detail {
 
@@ -24,181 +22,8 @@ namespace {
 using simd::Double4;
 using simd::Float8;
 using table::LerpOf;
-
-// What the templates below need of a lane type beyond its arithmetic: its scalar and index types,
-// loads of a block's fields, the lanes to keep (pairs in the domain), the store of finished values,
-// and a cell's four ranks per lane.
-template <class V>
-struct Lanes;
-
-template <>
-struct Lanes<Double4> {
-    using Scalar = double;
-    using Index = __m128i;
-    using Keep = __m256d;
-    static constexpr int kCount = 4;
-    static Double4 load(const double* p) { return simd::load4(p); }
-    static Keep keep_of(const std::uint8_t* valid) {
-        return _mm256_castsi256_pd(_mm256_set_epi64x(-std::int64_t(valid[3] != 0), -std::int64_t(valid[2] != 0),
-                                                     -std::int64_t(valid[1] != 0), -std::int64_t(valid[0] != 0)));
-    }
-    static bool none(Keep k) { return _mm256_testz_pd(k, k) != 0; }
-    static Double4 keep(Keep k, Double4 a) { return Double4(_mm256_and_pd(k, a.v)); }
-    static void store(float* out, Double4 v) { _mm_storeu_ps(out, _mm256_cvtpd_ps(v.v)); }
-    static void store_zero(float* out) { _mm_storeu_ps(out, _mm_setzero_ps()); }
-    static Index load_index(const std::int32_t* p) { return _mm_load_si128(reinterpret_cast<const __m128i*>(p)); }
-    // c * a + b per lane.
-    static Index mul_add(Index c, int a, int b) { return _mm_add_epi32(_mm_mullo_epi32(c, _mm_set1_epi32(a)), _mm_set1_epi32(b)); }
-    static Index add(Index c, Index d) { return _mm_add_epi32(c, d); }
-    // Ranks 0..3 of cell index[lane] of a cell-major table (cell_major_of) for each lane: one load
-    // per lane, then a transpose, so that ranks[r] holds rank r of the lanes (as gather would).
-    static void corner_ranks(const float* cells, Index index, Double4 ranks[4]) {
-        alignas(16) std::int32_t i[4];
-        _mm_store_si128(reinterpret_cast<__m128i*>(i), index);
-        __m128 a = _mm_loadu_ps(cells + 4 * std::size_t(i[0])), b = _mm_loadu_ps(cells + 4 * std::size_t(i[1]));
-        __m128 c = _mm_loadu_ps(cells + 4 * std::size_t(i[2])), d = _mm_loadu_ps(cells + 4 * std::size_t(i[3]));
-        _MM_TRANSPOSE4_PS(a, b, c, d);
-        ranks[0] = Double4(_mm256_cvtps_pd(a));
-        ranks[1] = Double4(_mm256_cvtps_pd(b));
-        ranks[2] = Double4(_mm256_cvtps_pd(c));
-        ranks[3] = Double4(_mm256_cvtps_pd(d));
-    }
-    // WavelengthLocator::locate of nm[lane * stride] for each lane: the channels around each
-    // wavelength and the weight of the second.
-    static void locate(const WavelengthLocator& locator, const float* nm, std::size_t stride, Index& c0, Index& c1, Double4& t) {
-        alignas(16) std::int32_t i0[4], i1[4];
-        alignas(32) double w[4];
-        for (std::size_t lane = 0; lane < 4; ++lane) {
-            std::uint32_t a, b;
-            float tf;
-            locator.locate(nm[lane * stride], a, b, tf);
-            i0[lane] = std::int32_t(a), i1[lane] = std::int32_t(b), w[lane] = double(tf);
-        }
-        c0 = _mm_load_si128(reinterpret_cast<const __m128i*>(i0));
-        c1 = _mm_load_si128(reinterpret_cast<const __m128i*>(i1));
-        t = simd::load4(w);
-    }
-    // The eight floats from base + stride * index[lane] for each lane (a channel record, or two
-    // paired cells), as columns: column k holds float k of the lanes' eight (as eight gathers would).
-    static void columns8(const float* base, std::size_t stride, Index index, Double4 columns[8]) {
-        alignas(16) std::int32_t i[4];
-        _mm_store_si128(reinterpret_cast<__m128i*>(i), index);
-        __m128 lo[4], hi[4];
-        for (int k = 0; k < 4; ++k) {
-            const float* r = base + stride * std::size_t(i[k]);
-            lo[k] = _mm_loadu_ps(r), hi[k] = _mm_loadu_ps(r + 4);
-        }
-        _MM_TRANSPOSE4_PS(lo[0], lo[1], lo[2], lo[3]);
-        _MM_TRANSPOSE4_PS(hi[0], hi[1], hi[2], hi[3]);
-        for (int k = 0; k < 4; ++k) columns[k] = Double4(_mm256_cvtps_pd(lo[k])), columns[4 + k] = Double4(_mm256_cvtps_pd(hi[k]));
-    }
-};
-
-template <>
-struct Lanes<Float8> {
-    using Scalar = float;
-    using Index = __m256i;
-    using Keep = __m256;
-    static constexpr int kCount = 8;
-    static Float8 load(const float* p) { return simd::load8(p); }
-    static Keep keep_of(const std::uint8_t* valid) {  // the eight bytes widened, then != 0
-        const __m256i lanes = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(valid)));
-        return _mm256_castsi256_ps(_mm256_xor_si256(_mm256_cmpeq_epi32(lanes, _mm256_setzero_si256()), _mm256_set1_epi32(-1)));
-    }
-    static bool none(Keep k) { return _mm256_testz_ps(k, k) != 0; }
-    static Float8 keep(Keep k, Float8 a) { return Float8(_mm256_and_ps(k, a.v)); }
-    static void store(float* out, Float8 v) { _mm256_storeu_ps(out, v.v); }
-    static void store_zero(float* out) { _mm256_storeu_ps(out, _mm256_setzero_ps()); }
-    static Index load_index(const std::int32_t* p) { return _mm256_load_si256(reinterpret_cast<const __m256i*>(p)); }
-    static Index mul_add(Index c, int a, int b) {
-        return _mm256_add_epi32(_mm256_mullo_epi32(c, _mm256_set1_epi32(a)), _mm256_set1_epi32(b));
-    }
-    static Index add(Index c, Index d) { return _mm256_add_epi32(c, d); }
-    static void corner_ranks(const float* cells, Index index, Float8 ranks[4]) {
-        alignas(32) std::int32_t i[8];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(i), index);
-        __m128 r[8];
-        for (int k = 0; k < 8; ++k) r[k] = _mm_loadu_ps(cells + 4 * std::size_t(i[k]));
-        _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
-        _MM_TRANSPOSE4_PS(r[4], r[5], r[6], r[7]);
-        for (int k = 0; k < 4; ++k) ranks[k] = Float8(_mm256_set_m128(r[4 + k], r[k]));
-    }
-    // locate() as vector code, each step WavelengthLocator::locate's on eight lanes (the same
-    // results); lane by lane where a wavelength is outside the grid or the grid has no buckets.
-    static void locate(const WavelengthLocator& locator, const float* nm, std::size_t stride, Index& c0, Index& c1, Float8& t) {
-        const WavelengthLocator::Tables w = locator.tables();
-        alignas(32) float lambda[8];
-        for (std::size_t lane = 0; lane < 8; ++lane) lambda[lane] = nm[lane * stride];
-        const __m256 x = _mm256_load_ps(lambda);
-        const __m256 inside =
-            _mm256_and_ps(_mm256_cmp_ps(x, _mm256_set1_ps(w.lo), _CMP_GE_OQ), _mm256_cmp_ps(x, _mm256_set1_ps(w.hi), _CMP_LE_OQ));
-        if (!w.start || _mm256_movemask_ps(inside) != 0xFF) {
-            alignas(32) std::int32_t i0[8], i1[8];
-            alignas(32) float tf[8];
-            for (std::size_t lane = 0; lane < 8; ++lane) {
-                std::uint32_t a, b;
-                locator.locate(lambda[lane], a, b, tf[lane]);
-                i0[lane] = std::int32_t(a), i1[lane] = std::int32_t(b);
-            }
-            c0 = load_index(i0), c1 = load_index(i1), t = simd::load8(tf);
-            return;
-        }
-        const __m256i one = _mm256_set1_epi32(1), last = _mm256_set1_epi32(int(w.n) - 1);
-        const __m256 scaled = _mm256_mul_ps(_mm256_sub_ps(x, _mm256_set1_ps(w.lo)), _mm256_set1_ps(w.buckets_per_nm));
-        const __m256i bucket = _mm256_min_epi32(_mm256_cvttps_epi32(scaled), _mm256_set1_epi32(int(w.buckets) - 1));
-        __m256i i = gather_int(w.start, bucket);
-        for (;;) {  // up while the next grid wavelength is at or below lambda
-            const __m256i next = _mm256_add_epi32(i, one);
-            const __m256i up = _mm256_and_si256(_mm256_cmpgt_epi32(_mm256_add_epi32(last, one), next),
-                                                _mm256_castps_si256(_mm256_cmp_ps(
-                                                    simd::gather(w.grid, _mm256_min_epi32(next, last)).v, x, _CMP_LE_OQ)));
-            if (_mm256_testz_si256(up, up)) break;
-            i = _mm256_sub_epi32(i, up);
-        }
-        for (;;) {  // down while this one is above lambda
-            const __m256i down = _mm256_and_si256(_mm256_cmpgt_epi32(i, _mm256_setzero_si256()),
-                                                  _mm256_castps_si256(_mm256_cmp_ps(simd::gather(w.grid, i).v, x, _CMP_GT_OQ)));
-            if (_mm256_testz_si256(down, down)) break;
-            i = _mm256_add_epi32(i, down);
-        }
-        // blend_wavelengths_at at min(i, n - 2).
-        c0 = _mm256_min_epi32(i, _mm256_sub_epi32(last, one));
-        c1 = _mm256_add_epi32(c0, one);
-        const Float8 g0 = simd::gather(w.grid, c0), span = simd::gather(w.grid, c1) - g0;
-        const Float8 v = (Float8(x) - g0) / span;
-        const Float8 clamped = simd::select(v < Float8(0.0), Float8(0.0), simd::select(Float8(1.0) < v, Float8(1.0), v));
-        t = simd::select(span > Float8(0.0), clamped, Float8(0.0));
-    }
-    static __m256i gather_int(const std::uint32_t* table, __m256i index) {
-        alignas(32) std::int32_t i[8];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(i), index);
-        return _mm256_setr_epi32(int(table[i[0]]), int(table[i[1]]), int(table[i[2]]), int(table[i[3]]), int(table[i[4]]),
-                                 int(table[i[5]]), int(table[i[6]]), int(table[i[7]]));
-    }
-    static void columns8(const float* base, std::size_t stride, Index index, Float8 columns[8]) {
-        alignas(32) std::int32_t i[8];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(i), index);
-        __m256 r[8];
-        for (int k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(base + stride * std::size_t(i[k]));
-        // The 8 x 8 transpose: pairs, then quadruples within each 128-bit half, then the halves.
-        const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
-        const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
-        const __m256 t4 = _mm256_unpacklo_ps(r[4], r[5]), t5 = _mm256_unpackhi_ps(r[4], r[5]);
-        const __m256 t6 = _mm256_unpacklo_ps(r[6], r[7]), t7 = _mm256_unpackhi_ps(r[6], r[7]);
-        const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xEE);
-        const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xEE);
-        const __m256 u4 = _mm256_shuffle_ps(t4, t6, 0x44), u5 = _mm256_shuffle_ps(t4, t6, 0xEE);
-        const __m256 u6 = _mm256_shuffle_ps(t5, t7, 0x44), u7 = _mm256_shuffle_ps(t5, t7, 0xEE);
-        columns[0] = Float8(_mm256_permute2f128_ps(u0, u4, 0x20));
-        columns[1] = Float8(_mm256_permute2f128_ps(u1, u5, 0x20));
-        columns[2] = Float8(_mm256_permute2f128_ps(u2, u6, 0x20));
-        columns[3] = Float8(_mm256_permute2f128_ps(u3, u7, 0x20));
-        columns[4] = Float8(_mm256_permute2f128_ps(u0, u4, 0x31));
-        columns[5] = Float8(_mm256_permute2f128_ps(u1, u5, 0x31));
-        columns[6] = Float8(_mm256_permute2f128_ps(u2, u6, 0x31));
-        columns[7] = Float8(_mm256_permute2f128_ps(u3, u7, 0x31));
-    }
-};
+using lanes::Lanes;
+using lanes::store_values;
 
 // The interpolated basis values of one table at a group of pairs: gathers from each basis table.
 template <class V>
@@ -281,18 +106,15 @@ LerpOf<V> g_column(V phi, int g_phi) {
 }
 
 // NpfModel::position for the group of pairs from j of the block; lanes outside the domain (keep
-// false) look up at angles 0 (valid cells; their values are zeroed later). per_channel: from the
-// channel tables (cells.channel_*), g.d, g.g_i, g.g_o and g.r then holding each channel's value.
+// false) look up at angles 0 (valid cells; their values are zeroed later).
 template <class V>
-void position(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<typename Lanes<V>::Scalar>& a,
-              std::size_t j, typename Lanes<V>::Keep keep, bool stored, bool per_channel, Group<V>& g) {
+NPF_GENERIC_INLINE void position(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<typename Lanes<V>::Scalar>& a,
+                                 std::size_t j, typename Lanes<V>::Keep keep, bool stored, Group<V>& g) {
     using L = Lanes<V>;
-    const int channels = int(m.channel_count());
-    const float* d_cells = per_channel ? cells.channel_d : cells.d;
-    const float* g_cells = per_channel ? cells.channel_g : cells.g;
-    const float* detail_cells = per_channel ? cells.channel_detail : cells.detail;
-    const int d_rank = per_channel ? channels : m.D.rank, g_rank = per_channel ? channels : m.G.rank;
-    const int detail_rank = per_channel ? channels : m.detail.rank;
+    const float* d_cells = cells.d;
+    const float* g_cells = cells.g;
+    const float* detail_cells = cells.detail;
+    const int d_rank = m.D.rank, g_rank = m.G.rank, detail_rank = m.detail.rank;
     auto at = [&](const typename L::Scalar* field) { return L::keep(keep, L::load(field + j)); };
     g.cos_o = at(a.cos_o);
     g.inv_cos_product = at(a.inv_cos_product);
@@ -303,9 +125,10 @@ void position(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesO
     g.f1 = simd::to_int32(f.i1);
     g.f_t = f.t;
     g.f_cells = stored && cells.f;
-    if (g.f_cells) {
-        L::corner_ranks(cells.f, g.f0, g.f_at0);
-        L::corner_ranks(cells.f, g.f1, g.f_at1);
+    if (g.f_cells) {  // rows f0 and f0 + 1 side by side (f1 is one of them)
+        V pair[8];
+        L::columns8(cells.f, 4, g.f0, pair);
+        for (int c = 0; c < 4; ++c) g.f_at0[c] = pair[c], g.f_at1[c] = pair[4 + c];
     }
     project(m.G, g_rank, g_cells, bilinear_of(equation::g_row_of(at(a.theta_gi), m.g_theta), g_column(at(a.phi_gi), m.g_phi), m.g_phi, g_cells), g.g_i);
     project(m.G, g_rank, g_cells, bilinear_of(equation::g_row_of(at(a.theta_go), m.g_theta), g_column(at(a.phi_go), m.g_phi), m.g_phi, g_cells), g.g_o);
@@ -316,17 +139,27 @@ void position(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesO
     V weight[8];
     trilinear_weights<V>(h.t, d.t, p.t, weight);
     const V rows = V(double(grid.theta_d)), cols = V(double(grid.phi_d));
-    if (detail_cells) {  // corners 2q and 2q + 1 (along phi_d) side by side; each rank's sum in the order below
-        const V padded = V(double(grid.phi_d + 1));
+    if (detail_cells) {  // padded_detail_cells_of: corner pairs q = 2a + b at fixed offsets, cells p.i0 and p.i1 side by side
+        std::size_t offset[4];
+        detail_corner_offsets(grid, offset);
+        const V padded_rows = V(double(grid.theta_d + 1)), padded_cols = V(double(grid.phi_d + 1));
+        const typename L::Index first = simd::to_int32((h.i0 * padded_rows + d.i0) * padded_cols + p.i0);
+#if defined(NPF_BATCH_VALUES_FLOAT)
+        V scale[4];
+        for (int q = 0; q < 4; ++q) scale[q] = (q & 2 ? h.t : V(1.0) - h.t) * (q & 1 ? d.t : V(1.0) - d.t);
+        V c[8];
+        L::template weighted_columns8<4>(detail_cells, first, offset, scale, c);
+        for (int r = 0; r < detail_rank; ++r) g.r[r] = c[r] * (V(1.0) - p.t) + c[4 + r] * p.t;
+#else
         V sum[4] = {V(0.0), V(0.0), V(0.0), V(0.0)};  // all four ranks, in registers (the copy pads with 0)
-        for (int q = 0; q < 4; ++q) {
-            const V hi = q & 2 ? h.i1 : h.i0, di = q & 1 ? d.i1 : d.i0;
+        for (int q = 0; q < 4; ++q) {  // each rank's sum in the scalar closure's order of the corners
             V c[8];
-            L::columns8(detail_cells, 4, simd::to_int32((hi * rows + di) * padded + p.i0), c);
+            L::columns8(detail_cells + 4 * offset[q], 4, first, c);
             for (int r = 0; r < 4; ++r) sum[r] = sum[r] + c[r] * weight[2 * q];
             for (int r = 0; r < 4; ++r) sum[r] = sum[r] + c[4 + r] * weight[2 * q + 1];
         }
         for (int r = 0; r < detail_rank; ++r) g.r[r] = sum[r];
+#endif
         return;
     }
     typename L::Index index[8];
@@ -402,22 +235,6 @@ NPF_GENERIC_INLINE V value_of(const NpfModel& m, const Group<V>& g, const Channe
     return equation::with_detail_of<V>(base, r);
 }
 
-// The same from position's per_channel values (channel tables): no sums over ranks.
-template <class V>
-NPF_GENERIC_INLINE V channel_value_of(const NpfModel& m, const Group<V>& g, const SameChannel<V>& c) {
-    const std::size_t k = c.c;
-    const V base = equation::value_of<V>(c.rho_d(), c.rho_s(), g.d[k], c.f_value(g), g.g_i[k], g.g_o[k], g.inv_cos_product);
-    if (m.detail.rank == 0) return base;
-    return equation::with_detail_of<V>(base, g.r[k]);
-}
-
-// NpfClosure::write_values' last step: finite_float(max(0, v) cos_light), then 0 outside the domain.
-template <class V>
-void store_values(V v, V cos_light, typename Lanes<V>::Keep keep, float* out) {
-    v = simd::select(V(0.0) < v, v, V(0.0)) * cos_light;
-    Lanes<V>::store(out, Lanes<V>::keep(keep, simd::finite_float_of(v)));
-}
-
 template <class V>
 std::size_t values_of(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<typename Lanes<V>::Scalar>& angles,
                       std::size_t count, const std::uint8_t* valid, const ValueRequestOfBlock& request, std::size_t first,
@@ -425,10 +242,6 @@ std::size_t values_of(const NpfModel& m, const CellMajorBases& cells, const Bloc
     using L = Lanes<V>;
     constexpr std::size_t kLanes = std::size_t(L::kCount);
     Group<V> g;
-    // Float lanes with stored channels look each channel up in its own tables where they exist
-    // (channel_tables_of); the double path keeps the scalar closure's sums, to the bit.
-    const bool per_channel = std::is_same<V, simd::Float8>::value && request.stored && cells.channel_d && cells.channel_g &&
-                             (m.detail.rank == 0 || cells.channel_detail);
     std::size_t j = 0;
     for (; j + kLanes <= count; j += kLanes) {
         const typename L::Keep keep = L::keep_of(valid + j);
@@ -437,12 +250,7 @@ std::size_t values_of(const NpfModel& m, const CellMajorBases& cells, const Bloc
             for (std::size_t k = 0; k < request.count; ++k) L::store_zero(out + k * n);
             continue;
         }
-        position<V>(m, cells, angles, j, keep, request.stored, per_channel, g);
-        if (per_channel) {
-            for (std::size_t k = 0; k < request.count; ++k)
-                store_values(channel_value_of(m, g, SameChannel<V>{m, k}), g.cos_o, keep, out + k * n);
-            continue;
-        }
+        position<V>(m, cells, angles, j, keep, request.stored, g);
         if (request.stored) {
             for (std::size_t k = 0; k < request.count; ++k) store_values(value_of(m, g, SameChannel<V>{m, k}), g.cos_o, keep, out + k * n);
             continue;
@@ -476,6 +284,8 @@ std::size_t values_avx2(const NpfModel& m, const CellMajorBases& cells, const Bl
 std::size_t values_float_avx2(const NpfModel& m, const CellMajorBases& cells, const BlockAnglesOf<float>& angles,
                               std::size_t count, const std::uint8_t* valid, const ValueRequestOfBlock& request,
                               std::size_t first, float* values, std::size_t n) {
+    if (stored_channels_float_apply(m, cells, request))
+        return stored_channels_float_avx2(m, cells, angles, count, valid, first, values, n);
     return values_of<Float8>(m, cells, angles, count, valid, request, first, values, n);
 }
 #endif

@@ -37,6 +37,9 @@ HalfVectorSampler::HalfVectorSampler(const std::vector<double>& d_bar, int d_the
         }
     }
     m_cells = AliasTable(weight);  // throws when every weight is 0
+    m_cell_density.resize(weight.size());
+    for (std::size_t cell = 0; cell < weight.size(); ++cell)
+        m_cell_density[cell] = float(double(m_cells.pmf(cell)) * m_inv_solid_angle[cell / std::size_t(d_phi)]);
 }
 
 std::vector<double> HalfVectorSampler::luminance_averaged_ndf(const NpfModel& m) {

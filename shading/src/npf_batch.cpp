@@ -40,22 +40,46 @@ struct BlockPointers {
 
 namespace batch_detail {
 
-std::vector<float> cell_major_of(const float* tables, int count, std::size_t cells) {
-    if (count < 1 || count > 4) return {};
-    std::vector<float> out(cells * 4, 0.f);
-    for (int r = 0; r < count; ++r)
-        for (std::size_t c = 0; c < cells; ++c) out[c * 4 + std::size_t(r)] = tables[std::size_t(r) * cells + c];
-    return out;
-}
-
-std::vector<float> paired_cells_of(const SpectralBasis& s, int rows, int cols, bool pair_rows) {
-    if (s.rank < 1 || s.rank > 4 || rows < 1 || cols < 1) return {};
+std::vector<float> paired_cells_of(const float* tables, int count, int rows, int cols, bool pair_rows) {
+    if (count < 1 || count > 4 || rows < 1 || cols < 1) return {};
+    const std::size_t cells = std::size_t(rows) * std::size_t(cols);
     const std::size_t r_count = std::size_t(rows) + (pair_rows ? 1 : 0), c_count = std::size_t(cols) + (pair_rows ? 0 : 1);
     std::vector<float> out(r_count * c_count * 4, 0.f);
     for (std::size_t r = 0; r < r_count; ++r) {
         for (std::size_t c = 0; c < c_count; ++c) {
             const std::size_t from = std::min(r, std::size_t(rows) - 1) * std::size_t(cols) + c % std::size_t(cols);
-            for (int k = 0; k < s.rank; ++k) out[(r * c_count + c) * 4 + std::size_t(k)] = s.basis[std::size_t(k) * s.cells + from];
+            for (int k = 0; k < count; ++k) out[(r * c_count + c) * 4 + std::size_t(k)] = tables[std::size_t(k) * cells + from];
+        }
+    }
+    return out;
+}
+
+std::vector<float> paired_cells_of(const SpectralBasis& s, int rows, int cols, bool pair_rows) {
+    if (rows < 1 || cols < 1 || s.cells != std::size_t(rows) * std::size_t(cols)) return {};
+    return paired_cells_of(s.basis.data(), s.rank, rows, cols, pair_rows);
+}
+
+std::size_t padded_detail_cell_count(const DetailGrid& grid) {
+    if (grid.empty()) return 0;
+    return (std::size_t(grid.theta_h) + 1) * (std::size_t(grid.theta_d) + 1) * (std::size_t(grid.phi_d) + 1);
+}
+
+void detail_corner_offsets(const DetailGrid& grid, std::size_t offset[4]) {
+    const std::size_t row = std::size_t(grid.phi_d) + 1, plane = (std::size_t(grid.theta_d) + 1) * row;
+    offset[0] = 0, offset[1] = row, offset[2] = plane, offset[3] = plane + row;
+}
+
+std::vector<float> padded_detail_cells_of(const float* tables, int count, const DetailGrid& grid) {
+    if (count < 1 || count > 4 || grid.empty()) return {};
+    const std::size_t cells = grid.cells();
+    std::vector<float> out(padded_detail_cell_count(grid) * 4, 0.f);
+    std::size_t to = 0;
+    for (int h = 0; h <= grid.theta_h; ++h) {
+        for (int d = 0; d <= grid.theta_d; ++d) {
+            for (int p = 0; p <= grid.phi_d; ++p, to += 4) {
+                const std::size_t from = grid.index(std::min(h, grid.theta_h - 1), std::min(d, grid.theta_d - 1), p % grid.phi_d);
+                for (int k = 0; k < count; ++k) out[to + std::size_t(k)] = tables[std::size_t(k) * cells + from];
+            }
         }
     }
     return out;
@@ -151,7 +175,7 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
             if (pdf) {
                 pdf_done = batch_detail::pdfs_float_avx2(m_sampler, m_diffuse_probability, done, float_angles.theta_h,
                                                          float_angles.u_h, float_angles.phi_h, float_angles.cos_d,
-                                                         float_angles.cos_o, pdf + b);
+                                                         float_angles.cos_o, valid, pdf + b);
             }
         } else {
             if (avx2) {
@@ -163,11 +187,12 @@ void NpfClosure::eval_batch(std::size_t n, const DirectionArrays& view, const Di
             if (vector_values) done = batch_detail::values_avx2(m_model, cell_major, angles, m, valid, block_request, b, values, n);
             if (pdf && avx2) {
                 pdf_done = batch_detail::pdfs_avx2(m_sampler, m_diffuse_probability, m, angles.theta_h, angles.u_h, angles.phi_h,
-                                                   angles.cos_d, angles.cos_o, pdf + b);
+                                                   angles.cos_d, angles.cos_o, valid, pdf + b);
             }
         }
+        // The vector kernels wrote 0 for pairs outside the domain; the rest of the block pair by pair.
         const std::size_t float_done = float_lanes ? done : 0;  // pairs whose angles are float_angles'
-        for (std::size_t j = 0; j < m; ++j) {
+        for (std::size_t j = pdf ? std::min(done, pdf_done) : done; j < m; ++j) {
             const std::size_t i = b + j;
             if (!valid[j]) {
                 zero(i);
@@ -202,7 +227,7 @@ void NpfClosure::pdf_batch(std::size_t n, const DirectionArrays& view, const Dir
             double cos_light[kBlock];
             for (std::size_t j = 0; j < m; ++j) cos_light[j] = light.z[b + j];
             done = batch_detail::pdfs_avx2(m_sampler, m_diffuse_probability, m, h.theta_h, h.u_h, h.phi_h, h.cos_d, cos_light,
-                                           pdf + b);
+                                           nullptr, pdf + b);
         }
         for (std::size_t j = 0; j < m; ++j) {
             const std::size_t i = b + j;

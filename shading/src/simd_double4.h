@@ -7,6 +7,8 @@
 
 #include <immintrin.h>
 
+#include <cstdint>
+
 #include <limits>
 
 namespace npf::simd {
@@ -67,6 +69,12 @@ inline Double4 finite_float_of(Double4 v) {
     constexpr double kMax = std::numeric_limits<float>::max();
     const Double4 clamped = select(v < Double4(-kMax), Double4(-kMax), select(Double4(kMax) < v, Double4(kMax), v));
     return select(v == v, clamped, Double4(0.0));
+}
+
+// Lanes whose byte (a block's valid[], 1 or 0) is not 0: all ones there, zeros elsewhere.
+inline Mask4 nonzero_bytes4(const std::uint8_t* b) {
+    return {_mm256_castsi256_pd(_mm256_set_epi64x(-std::int64_t(b[3] != 0), -std::int64_t(b[2] != 0), -std::int64_t(b[1] != 0),
+                                                  -std::int64_t(b[0] != 0)))};
 }
 
 inline Double4 load4(const double* p) { return Double4(_mm256_loadu_pd(p)); }

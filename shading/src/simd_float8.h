@@ -6,6 +6,8 @@
 
 #include <immintrin.h>
 
+#include <cstdint>
+
 #include <limits>
 
 namespace npf::simd {
@@ -65,6 +67,12 @@ inline Float8 atan_reduced(Float8 q) {
     const Float8 p = (Float8(-0.3333272681618652) + Float8(0.1997103619422266) * s) +
                      s2 * (Float8(-0.1381710885730751) + Float8(0.0788242842006463) * s);
     return q + q * s * p;
+}
+
+// Lanes whose byte (a block's valid[], 1 or 0) is not 0: the eight bytes widened, then != 0.
+inline Mask8 nonzero_bytes8(const std::uint8_t* b) {
+    const __m256i lanes = _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(b)));
+    return {_mm256_castsi256_ps(_mm256_xor_si256(_mm256_cmpeq_epi32(lanes, _mm256_setzero_si256()), _mm256_set1_epi32(-1)))};
 }
 
 inline Float8 load8(const float* p) { return Float8(_mm256_loadu_ps(p)); }

@@ -115,24 +115,30 @@ double paired_psnr(const std::string& path) {
     return npf::render::compare_images(d.image, f.image).psnr;
 }
 
-// The analytic case: GGX, anisotropic, 16 wavelengths, with a detail layer whose residuals pull
-// many values to the clamp at 0 (where float's cancellation is largest).
+// The analytic cases: GGX with a detail layer whose residuals pull many values to the clamp at 0
+// (where float's cancellation is largest), or without one.
+std::string analytic_material(const std::string& path, const npf::testing::MicrofacetSpec& spec, bool detail) {
+    npf::NpfModel m = npf::compress_factors(npf::testing::make_microfacet_factors(spec), npf::CompressionOptions());
+    if (detail) {
+        const npf::DetailGrid grid{12, 8, 16};
+        std::mt19937 rng(11);
+        std::uniform_real_distribution<float> residual(-0.3f, 0.2f);
+        std::vector<float> tables(m.channel_count() * grid.cells());
+        for (float& v : tables) v = residual(rng);
+        m.detail_grid = grid;
+        m.detail = npf::compress_tables(tables, m.channel_count(), grid.cells(), 1.0, 0);
+    }
+    npf::write_npf_texture(m, path);
+    return path;
+}
+
+// Anisotropic, 16 wavelengths, with a detail layer.
 std::string analytic_anisotropic_spectral(const std::string& folder) {
     npf::testing::MicrofacetSpec spec;
     spec.alpha_x = 0.08, spec.alpha_y = 0.3;
     spec.spectral = true, spec.channels = 16;
     spec.d_phi = 32, spec.g_phi = 16;
-    npf::NpfModel m = npf::compress_factors(npf::testing::make_microfacet_factors(spec), npf::CompressionOptions());
-    const npf::DetailGrid grid{12, 8, 16};
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> residual(-0.3f, 0.2f);
-    std::vector<float> tables(m.channel_count() * grid.cells());
-    for (float& v : tables) v = residual(rng);
-    m.detail_grid = grid;
-    m.detail = npf::compress_tables(tables, m.channel_count(), grid.cells(), 1.0, 0);
-    const std::string path = folder + "/ggx_aniso_spectral_detail.exr";
-    npf::write_npf_texture(m, path);
-    return path;
+    return analytic_material(folder + "/ggx_aniso_spectral_detail.exr", spec, true);
 }
 
 const std::string kShipped = std::string(NPF_SOURCE_DIR) + "/testsuite/farm-safety/unsealed/v2-rgb-detail.exr";
@@ -173,6 +179,31 @@ TEST(BatchFloat, AnalyticAnisotropicSpectralIsWithinTheBudget) {
     const double psnr = paired_psnr(path);
     EXPECT_GE(psnr, kBudgetPsnr);
     std::printf("analytic: paired directional render %.1f dB\n", psnr);
+}
+
+// RGB with each table's azimuth and the detail layer on or off: the stored channels' own path
+// (batch_stored_channels_float_avx2.cpp) in each of its forms, D and G with one column or many.
+TEST(BatchFloat, StoredChannelsOfEveryTableShapeAreWithinTheBudget) {
+    if (!npf::simd_isa_supported(npf::SimdIsa::Avx2)) GTEST_SKIP() << "no AVX2: the float setting is the double path";
+    const std::string folder = npf::testing::temporary_folder("npf-batch-float-shapes");
+    struct Shape {
+        int d_phi, g_phi;
+        bool detail;
+    };
+    for (const Shape& shape : {Shape{32, 16, true}, Shape{32, 1, false}, Shape{1, 16, true}, Shape{1, 1, false}}) {
+        npf::testing::MicrofacetSpec spec;
+        spec.alpha_x = 0.1, spec.alpha_y = 0.25;
+        spec.d_phi = shape.d_phi, spec.g_phi = shape.g_phi;
+        const std::string name = "rgb_" + std::to_string(shape.d_phi) + "_" + std::to_string(shape.g_phi) + (shape.detail ? "_detail" : "");
+        SCOPED_TRACE(name);
+        const std::string path = analytic_material(folder + "/" + name + ".exr", spec, shape.detail);
+        const FloatAgainstDouble r = compare_precisions(path, BatchWavelengths::stored(), 3, reference_pairs());
+        EXPECT_GT(r.differing, 0u) << "the float lanes did not run";
+        EXPECT_LE(r.comparison.relative_rms, kBudgetRelativeRms);
+        EXPECT_LE(r.pdf_relative_rms, kBudgetRelativeRms);
+        std::printf("%s: relative RMS %.3g over %zu pairs (pdf %.3g)\n", name.c_str(), r.comparison.relative_rms,
+                    r.comparison.used, r.pdf_relative_rms);
+    }
 }
 
 // sample_batch in float lanes: the same draws (double either way), its weights (eval_batch's

@@ -52,6 +52,9 @@ public:
     const std::vector<double>& inv_solid_angle() const { return m_inv_solid_angle; }
     int theta_cells() const { return m_theta; }
     int phi_cells() const { return m_phi; }
+    // Each cell's density (pmf over solid angle, as pdf() computes it) rounded to float, for the
+    // float lanes (BatchPrecision::Float): one load per lane instead of the double product.
+    const std::vector<float>& cell_density() const { return m_cell_density; }
 
     // The half vector of a draw in cell (row, column j): s0, s1 the row's edges (half_sin2), t the
     // alias table's remainder, u2 the second number. sample()'s arithmetic, generic over the
@@ -79,6 +82,7 @@ private:
     // keeps the pole's tiny cells exact in double).
     std::vector<double> m_half_sin2;  // d_theta + 1 edges
     std::vector<double> m_inv_solid_angle;  // per row: 1 / Omega of one cell
+    std::vector<float> m_cell_density;      // [row][column]: cells' pmf times the row's inverse solid angle
 };
 
 }  // namespace npf
