@@ -139,11 +139,19 @@ struct Lanes<Float8> {
                                  int(table[i[5]]), int(table[i[6]]), int(table[i[7]]));
     }
     static void columns8(const float* base, std::size_t stride, Index index, Float8 columns[8]) {
-        alignas(32) std::int32_t i[8];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(i), index);
+        alignas(32) std::uint32_t offset[8];
+        byte_offsets(index, stride, offset);
         __m256 r[8];
-        for (int k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(base + stride * std::size_t(i[k]));
+        for (int k = 0; k < 8; ++k) r[k] = _mm256_loadu_ps(at_offset(base, offset[k]));
         transpose8(r, columns);
+    }
+    // index[lane] * stride floats (4 or 8) in bytes, unsigned: one shift for all lanes, where a
+    // signed index per lane costs a sign extension and a shift before each load.
+    static void byte_offsets(Index index, std::size_t stride, std::uint32_t out[8]) {
+        _mm256_store_si256(reinterpret_cast<__m256i*>(out), stride == 8 ? _mm256_slli_epi32(index, 5) : _mm256_slli_epi32(index, 4));
+    }
+    static const float* at_offset(const float* base, std::uint32_t bytes) {
+        return reinterpret_cast<const float*>(reinterpret_cast<const char*>(base) + bytes);
     }
     // For each lane, the sum over q of scale[q] times the eight floats at cell index + offset[q]
     // (two cells of four floats side by side), as columns (columns8's layout): each lane's sum in
@@ -152,13 +160,13 @@ struct Lanes<Float8> {
     template <int Q>
     static void weighted_columns8(const float* base, Index index, const std::size_t offset[Q], const Float8 scale[Q],
                                   Float8 columns[8]) {
-        alignas(32) std::int32_t i[8];
+        alignas(32) std::uint32_t i[8];
         alignas(32) float w[Q][8];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(i), index);
+        byte_offsets(index, 4, i);
         for (int q = 0; q < Q; ++q) _mm256_store_ps(w[q], scale[q].v);
         __m256 r[8];
         for (int k = 0; k < 8; ++k) {
-            const float* cell = base + 4 * std::size_t(i[k]);
+            const float* cell = at_offset(base, i[k]);
             __m256 sum = _mm256_mul_ps(_mm256_loadu_ps(cell + 4 * offset[0]), _mm256_broadcast_ss(&w[0][k]));
             for (int q = 1; q < Q; ++q) sum = _mm256_fmadd_ps(_mm256_loadu_ps(cell + 4 * offset[q]), _mm256_broadcast_ss(&w[q][k]), sum);
             r[k] = sum;

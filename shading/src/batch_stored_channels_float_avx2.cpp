@@ -65,6 +65,11 @@ std::size_t stored_channels(const NpfModel& m, const CellMajorBases& cells, cons
     std::size_t offset[4] = {0, 0, 0, 0};
     if (Detail) detail_corner_offsets(m.detail_grid, offset);
     const LerpOf<Float8> one_column{Float8(0.0), Float8(0.0), Float8(0.0)};
+    // The model's sizes and tables in locals, which the loop can keep in registers (the stores of
+    // values could, for all the compiler knows, change the model's own fields).
+    const int d_theta = m.d_theta, d_phi = m.d_phi, f_theta = m.f_theta, g_theta = m.g_theta, g_phi = m.g_phi;
+    const DetailGrid grid = m.detail_grid;
+    const float *d_cells = cells.channel_d, *f_cells = cells.f, *g_cells = cells.channel_g, *detail_cells = cells.channel_detail;
     std::size_t j = 0;
     for (; j + 8 <= count; j += 8) {
         const L::Keep keep = L::keep_of(valid + j);
@@ -77,14 +82,14 @@ std::size_t stored_channels(const NpfModel& m, const CellMajorBases& cells, cons
         auto at = [&](const float* field) { return L::keep(keep, L::load(field + j)); };
         const Float8 u_h = at(a.u_h), theta_d = at(a.theta_d);
         Float8 d[4], f[4], g_i[4], g_o[4], r[4];
-        channels_at<DAzimuth>(cells.channel_d, equation::d_row_of(u_h, m.d_theta),
-                              DAzimuth ? equation::column_of(at(a.phi_h), m.d_phi) : one_column, m.d_phi, d);
-        channels_at<false>(cells.f, equation::f_row_of(theta_d, m.f_theta), one_column, 1, f);
-        channels_at<GAzimuth>(cells.channel_g, equation::g_row_of(at(a.theta_gi), m.g_theta),
-                              GAzimuth ? equation::column_of(at(a.phi_gi), m.g_phi) : one_column, m.g_phi, g_i);
-        channels_at<GAzimuth>(cells.channel_g, equation::g_row_of(at(a.theta_go), m.g_theta),
-                              GAzimuth ? equation::column_of(at(a.phi_go), m.g_phi) : one_column, m.g_phi, g_o);
-        if (Detail) detail_at(m.detail_grid, cells.channel_detail, offset, u_h, theta_d, at(a.phi_d), r);
+        channels_at<DAzimuth>(d_cells, equation::d_row_of(u_h, d_theta), DAzimuth ? equation::column_of(at(a.phi_h), d_phi) : one_column,
+                              d_phi, d);
+        channels_at<false>(f_cells, equation::f_row_of(theta_d, f_theta), one_column, 1, f);
+        channels_at<GAzimuth>(g_cells, equation::g_row_of(at(a.theta_gi), g_theta),
+                              GAzimuth ? equation::column_of(at(a.phi_gi), g_phi) : one_column, g_phi, g_i);
+        channels_at<GAzimuth>(g_cells, equation::g_row_of(at(a.theta_go), g_theta),
+                              GAzimuth ? equation::column_of(at(a.phi_go), g_phi) : one_column, g_phi, g_o);
+        if (Detail) detail_at(grid, detail_cells, offset, u_h, theta_d, at(a.phi_d), r);
         const Float8 cos_o = at(a.cos_o), inv_cos_product = at(a.inv_cos_product);
         for (std::size_t c = 0; c < channels; ++c) {
             Float8 v = equation::value_of<Float8>(rho_d[c], rho_s[c], d[c], f[c], g_i[c], g_o[c], inv_cos_product);
