@@ -13,7 +13,13 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace npf::batch_detail::lanes {
+namespace npf::batch_detail {
+// Internal linkage in each file that includes this: the files are compiled for different
+// instruction sets (with FMA for the float lanes, without for the double lanes' bits), and a
+// weak, shared copy of one of these functions could be the one the linker keeps for all
+// (tests/check_isa_objects.cmake).
+namespace {
+namespace lanes {
 
 using simd::Double4;
 using simd::Float8;
@@ -201,4 +207,6 @@ void store_values(V v, V cos_light, typename Lanes<V>::Keep keep, float* out) {
     Lanes<V>::store(out, Lanes<V>::keep(keep, simd::finite_float_of(v)));
 }
 
-}  // namespace npf::batch_detail::lanes
+}  // namespace lanes
+}  // namespace
+}  // namespace npf::batch_detail
