@@ -27,6 +27,7 @@ inline bool vector_values_apply(const NpfModel& m) {
     return m.D.rank <= kVectorRank && m.G.rank <= kVectorRank && m.detail.rank <= kVectorRank;
 }
 
+// Cells in padded_detail_cells_of's copy of a detail layer over `grid` (below).
 std::size_t padded_detail_cell_count(const DetailGrid& grid);
 
 // Float lanes compute cell indices in float: exact below 2^24, which every table's size is far
@@ -63,8 +64,9 @@ std::vector<float> paired_cells_of(const SpectralBasis& s, int rows, int cols, b
 // clamped rule pairs the last row with, at weight 0), phi_d a column more, a copy of the first
 // (the periodic neighbour of the last). Empty for more than four tables or no grid.
 std::vector<float> padded_detail_cells_of(const float* tables, int count, const DetailGrid& grid);
-// Cells in that copy, and the offsets (in cells) of the corner pairs q = 2a + b (a: the upper
-// theta_h row, b: the upper theta_d row) from the cell at (h.i0, d.i0, p.i0).
+// The offsets (in cells) of the corner pairs q = 2a + b in that copy (a: the upper theta_h row,
+// b: the upper theta_d row) from the cell at (h.i0, d.i0, p.i0); padded_detail_cell_count, above,
+// is the copy's number of cells.
 void detail_corner_offsets(const DetailGrid& grid, std::size_t offset[4]);
 
 // A basis recombined channel by channel: rank c is channel c's table (the sum of the ranks by its
@@ -79,7 +81,7 @@ SpectralBasis channel_tables_of(const SpectralBasis& s, std::size_t channels);
 std::vector<float> channel_records_of(const NpfModel& m);
 
 // The paired copies of a model's bases (null where absent: values_avx2 then gathers from the
-// rank-major tables, one lane and rank at a time), F cell by cell, and the channel records (null
+// rank-major tables, one lane and rank at a time), F in paired rows, and the channel records (null
 // where absent: per-lane channels gather coefficient by coefficient).
 struct CellMajorBases {
     const float* d = nullptr;
@@ -87,8 +89,9 @@ struct CellMajorBases {
     const float* detail = nullptr;  // padded_detail_cells_of, as channel_detail
     const float* f = nullptr;  // F of up to four channels, paired rows (the stored channels' F at once)
     const float* channel_records = nullptr;
-    // Paired copies of channel_tables_of's D, G and detail layer (the detail's null without one),
-    // for the float lanes' stored channels; d null where absent.
+    // Paired copies of channel_tables_of's D and G and the padded copy of its detail layer (null
+    // without one), for the float lanes' stored channels (stored_channels_float_avx2); d null
+    // where absent.
     const float* channel_d = nullptr;
     const float* channel_g = nullptr;
     const float* channel_detail = nullptr;
