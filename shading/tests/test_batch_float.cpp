@@ -117,10 +117,10 @@ double paired_psnr(const std::string& path) {
 
 // The analytic cases: GGX with a detail layer whose residuals pull many values to the clamp at 0
 // (where float's cancellation is largest), or without one.
-std::string analytic_material(const std::string& path, const npf::testing::MicrofacetSpec& spec, bool detail) {
+std::string analytic_material(const std::string& path, const npf::testing::MicrofacetSpec& spec, bool detail,
+                              const npf::DetailGrid& grid = {12, 8, 16}) {
     npf::NpfModel m = npf::compress_factors(npf::testing::make_microfacet_factors(spec), npf::CompressionOptions());
     if (detail) {
-        const npf::DetailGrid grid{12, 8, 16};
         std::mt19937 rng(11);
         std::uniform_real_distribution<float> residual(-0.3f, 0.2f);
         std::vector<float> tables(m.channel_count() * grid.cells());
@@ -204,6 +204,25 @@ TEST(BatchFloat, StoredChannelsOfEveryTableShapeAreWithinTheBudget) {
         std::printf("%s: relative RMS %.3g over %zu pairs (pdf %.3g)\n", name.c_str(), r.comparison.relative_rms,
                     r.comparison.used, r.pdf_relative_rms);
     }
+}
+
+// The smallest tables the format allows (one row, one column, a detail layer of one cell): every
+// clamp, extrapolation and wrap lands on the padding of the copies.
+TEST(BatchFloat, StoredChannelsOnTheSmallestTablesAreWithinTheBudget) {
+    if (!npf::simd_isa_supported(npf::SimdIsa::Avx2)) GTEST_SKIP() << "no AVX2: the float setting is the double path";
+    const std::string folder = npf::testing::temporary_folder("npf-batch-float-small");
+    npf::testing::MicrofacetSpec spec;
+    spec.set_grid(1, 1, 1, 1, 1);
+    const std::string path = analytic_material(folder + "/one_cell.exr", spec, true, npf::DetailGrid{1, 1, 1});
+    const FloatAgainstDouble r = compare_precisions(path, BatchWavelengths::stored(), 3, reference_pairs());
+    EXPECT_GT(r.differing, 0u) << "the float lanes did not run";
+    EXPECT_LE(r.comparison.relative_rms, kBudgetRelativeRms);
+    EXPECT_LE(r.pdf_relative_rms, kBudgetRelativeRms);
+    spec.set_grid(2, 3, 2, 2, 3);
+    const std::string two = analytic_material(folder + "/two_rows.exr", spec, true, npf::DetailGrid{2, 1, 3});
+    const FloatAgainstDouble r2 = compare_precisions(two, BatchWavelengths::stored(), 3, reference_pairs());
+    EXPECT_LE(r2.comparison.relative_rms, kBudgetRelativeRms);
+    EXPECT_LE(r2.pdf_relative_rms, kBudgetRelativeRms);
 }
 
 // sample_batch in float lanes: the same draws (double either way), its weights (eval_batch's
