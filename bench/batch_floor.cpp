@@ -1,6 +1,12 @@
 // npf_bench_batch_floor: what bounds the batched eval from below (issue 19's note, docs/shading.md).
 //
-//   build/bench/npf_bench_batch_floor FACTORS.exr [--seconds S]
+//   build/bench/npf_bench_batch_floor FACTORS.exr [--seconds S] [--profile-float ROUNDS]
+//
+// --profile-float: only ROUNDS passes of eval_batch in float lanes with the pdf over the pairs
+// below (65,536 of them), for an instruction counter, whose count inside eval_batch over
+// ROUNDS x 65,536 is the instructions a pair (docs/shading.md, issue 35's third session):
+//   valgrind --tool=callgrind --toggle-collect='npf::NpfClosure::eval_batch*'
+//       build/bench/npf_bench_batch_floor FACTORS.exr --profile-float 2   (one command line)
 //
 // Two measurements on one factor texture, memory path, random pairs over the hemisphere (4 hero
 // wavelengths per pair on a spectral file, R, G, B on an RGB one):
@@ -99,12 +105,15 @@ void report_precision(const Pairs& p, std::size_t count, const std::vector<float
 
 int main(int argc, char** argv) try {
     if (argc < 2 || argv[1][0] == '-') {
-        std::fprintf(stderr, "usage: npf_bench_batch_floor FACTORS.exr [--seconds S]\n");
+        std::fprintf(stderr, "usage: npf_bench_batch_floor FACTORS.exr [--seconds S] [--profile-float ROUNDS]\n");
         return 2;
     }
     double seconds = 1.0;
-    for (int i = 2; i + 1 < argc; i += 2)
+    int profile_rounds = 0;
+    for (int i = 2; i + 1 < argc; i += 2) {
         if (std::strcmp(argv[i], "--seconds") == 0) seconds = std::atof(argv[i + 1]);
+        if (std::strcmp(argv[i], "--profile-float") == 0) profile_rounds = std::atoi(argv[i + 1]);
+    }
     const npf::NpfClosure closure(argv[1], npf::NpfClosure::Path::Memory);
     npf::NpfClosure float_closure(argv[1], npf::NpfClosure::Path::Memory);
     float_closure.set_batch_precision(npf::BatchPrecision::Float);
@@ -115,6 +124,23 @@ int main(int argc, char** argv) try {
     const npf::AngleNeeds needs = m.angle_needs();
     std::vector<float> values(kBatch * std::max<std::size_t>(m.channels.size(), 4)), pdf(kBatch);
     volatile double sink = 0.0;
+
+    auto eval_pass = [&](const npf::NpfClosure& c, bool with_pdf) {
+        for (std::size_t b = 0; b < p.vx.size(); b += kBatch) {
+            const npf::DirectionArrays view{p.vx.data() + b, p.vy.data() + b, p.vz.data() + b};
+            const npf::DirectionArrays light{p.lx.data() + b, p.ly.data() + b, p.lz.data() + b};
+            const npf::BatchWavelengths wl =
+                rgb ? npf::BatchWavelengths::stored() : npf::BatchWavelengths::each_pair(p.hero.data() + 4 * b, 4);
+            c.eval_batch(kBatch, view, light, wl, values.data(), with_pdf ? pdf.data() : nullptr);
+            sink = sink + values[7];
+        }
+    };
+    auto eval = [&](const npf::NpfClosure& c, bool with_pdf) { return ns_per_pair(seconds, [&] { eval_pass(c, with_pdf); }); };
+    if (profile_rounds > 0) {
+        for (int r = 0; r < profile_rounds; ++r) eval_pass(float_closure, true);
+        std::printf("%s: %d x %zu pairs through eval_batch in float lanes with the pdf\n", argv[1], profile_rounds, p.vx.size());
+        return 0;
+    }
 
     npf::batch_detail::BlockAngles angles;
     npf::batch_detail::BlockAnglesOf<float> float_angles;
@@ -139,18 +165,6 @@ int main(int argc, char** argv) try {
             sink = sink + float_angles.theta_d[3];
         }
     });
-    auto eval = [&](const npf::NpfClosure& c, bool with_pdf) {
-        return ns_per_pair(seconds, [&] {
-            for (std::size_t b = 0; b < p.vx.size(); b += kBatch) {
-                const npf::DirectionArrays view{p.vx.data() + b, p.vy.data() + b, p.vz.data() + b};
-                const npf::DirectionArrays light{p.lx.data() + b, p.ly.data() + b, p.lz.data() + b};
-                const npf::BatchWavelengths wl =
-                    rgb ? npf::BatchWavelengths::stored() : npf::BatchWavelengths::each_pair(p.hero.data() + 4 * b, 4);
-                c.eval_batch(kBatch, view, light, wl, values.data(), with_pdf ? pdf.data() : nullptr);
-                sink = sink + values[7];
-            }
-        });
-    };
     const double values_ns = eval(closure, false), with_pdf_ns = eval(closure, true);
     const double float_values_ns = eval(float_closure, false), float_with_pdf_ns = eval(float_closure, true);
     std::printf("%s: %s, %s, angle needs: D azimuth %d, G azimuth %d, detail %d\n", argv[1], rgb ? "RGB" : "spectral", npf::simd_isa_name(npf::simd_isa()),
