@@ -9,6 +9,7 @@
 #include "simd_float8.h"
 
 #include <npf/core/channels.h>
+#include <npf/shading/detail_grid.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -178,6 +179,19 @@ struct Lanes<Float8> {
             r[k] = sum;
         }
         transpose8(r, columns);
+    }
+    // The four ranks of a detail layer's padded copy (padded_detail_cells_of; `offset` from
+    // detail_corner_offsets) at the trilinear position (h, d, p): the corner pairs weighted along
+    // theta_h and theta_d per lane (weighted_columns8), then blended along phi_d.
+    NPF_GENERIC_INLINE static void padded_detail_ranks(const DetailGrid& grid, const float* padded, const std::size_t offset[4],
+                                                       const table::LerpOf<Float8>& h, const table::LerpOf<Float8>& d,
+                                                       const table::LerpOf<Float8>& p, Float8 out[4]) {
+        const Float8 rows = Float8(double(grid.theta_d + 1)), cols = Float8(double(grid.phi_d + 1));
+        Float8 scale[4];
+        for (int q = 0; q < 4; ++q) scale[q] = (q & 2 ? h.t : Float8(1.0) - h.t) * (q & 1 ? d.t : Float8(1.0) - d.t);
+        Float8 c[8];
+        weighted_columns8<4>(padded, simd::to_int32((h.i0 * rows + d.i0) * cols + p.i0), offset, scale, c);
+        for (int k = 0; k < 4; ++k) out[k] = c[k] + p.t * (c[4 + k] - c[k]);
     }
     static void transpose8(const __m256 r[8], Float8 columns[8]) {
         // The 8 x 8 transpose: pairs, then quadruples within each 128-bit half, then the halves.

@@ -48,12 +48,7 @@ NPF_GENERIC_INLINE void detail_at(const DetailGrid& grid, const float* padded, c
                                   Float8 theta_d, Float8 phi_d, Float8 out[4]) {
     LerpOf<Float8> h, d, p;
     detail_position_of(grid, u_h, theta_d, phi_d, h, d, p);
-    const Float8 rows = Float8(double(grid.theta_d + 1)), cols = Float8(double(grid.phi_d + 1));
-    Float8 scale[4];
-    for (int q = 0; q < 4; ++q) scale[q] = (q & 2 ? h.t : Float8(1.0) - h.t) * (q & 1 ? d.t : Float8(1.0) - d.t);
-    Float8 c[8];
-    L::weighted_columns8<4>(padded, simd::to_int32((h.i0 * rows + d.i0) * cols + p.i0), offset, scale, c);
-    for (int k = 0; k < 4; ++k) out[k] = c[k] + p.t * (c[4 + k] - c[k]);
+    L::padded_detail_ranks(grid, padded, offset, h, d, p, out);
 }
 
 template <bool DAzimuth, bool GAzimuth, bool Detail>

@@ -64,10 +64,15 @@ std::vector<float> paired_cells_of(const SpectralBasis& s, int rows, int cols, b
 // clamped rule pairs the last row with, at weight 0), phi_d a column more, a copy of the first
 // (the periodic neighbour of the last). Empty for more than four tables or no grid.
 std::vector<float> padded_detail_cells_of(const float* tables, int count, const DetailGrid& grid);
+// The same of a basis' ranks (empty for a rank above 4, or a basis not of the grid's cells).
+std::vector<float> padded_detail_cells_of(const SpectralBasis& s, const DetailGrid& grid);
 // The offsets (in cells) of the corner pairs q = 2a + b in that copy (a: the upper theta_h row,
 // b: the upper theta_d row) from the cell at (h.i0, d.i0, p.i0); padded_detail_cell_count, above,
 // is the copy's number of cells.
-void detail_corner_offsets(const DetailGrid& grid, std::size_t offset[4]);
+inline void detail_corner_offsets(const DetailGrid& grid, std::size_t offset[4]) {
+    const std::size_t row = std::size_t(grid.phi_d) + 1, plane = (std::size_t(grid.theta_d) + 1) * row;
+    offset[0] = 0, offset[1] = row, offset[2] = plane, offset[3] = plane + row;
+}
 
 // A basis recombined channel by channel: rank c is channel c's table (the sum of the ranks by its
 // weights, in double, rounded to float), the weights the identity. Interpolation commutes with

@@ -142,15 +142,13 @@ NPF_GENERIC_INLINE void position(const NpfModel& m, const CellMajorBases& cells,
     if (detail_cells) {  // padded_detail_cells_of: corner pairs q = 2a + b at fixed offsets, cells p.i0 and p.i1 side by side
         std::size_t offset[4];
         detail_corner_offsets(grid, offset);
+#if defined(NPF_BATCH_VALUES_FLOAT)
+        V ranks[4];
+        L::padded_detail_ranks(grid, detail_cells, offset, h, d, p, ranks);
+        for (int r = 0; r < detail_rank; ++r) g.r[r] = ranks[r];
+#else
         const V padded_rows = V(double(grid.theta_d + 1)), padded_cols = V(double(grid.phi_d + 1));
         const typename L::Index first = simd::to_int32((h.i0 * padded_rows + d.i0) * padded_cols + p.i0);
-#if defined(NPF_BATCH_VALUES_FLOAT)
-        V scale[4];
-        for (int q = 0; q < 4; ++q) scale[q] = (q & 2 ? h.t : V(1.0) - h.t) * (q & 1 ? d.t : V(1.0) - d.t);
-        V c[8];
-        L::template weighted_columns8<4>(detail_cells, first, offset, scale, c);
-        for (int r = 0; r < detail_rank; ++r) g.r[r] = c[r] * (V(1.0) - p.t) + c[4 + r] * p.t;
-#else
         V sum[4] = {V(0.0), V(0.0), V(0.0), V(0.0)};  // all four ranks, in registers (the copy pads with 0)
         for (int q = 0; q < 4; ++q) {  // each rank's sum in the scalar closure's order of the corners
             V c[8];

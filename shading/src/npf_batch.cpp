@@ -64,11 +64,6 @@ std::size_t padded_detail_cell_count(const DetailGrid& grid) {
     return (std::size_t(grid.theta_h) + 1) * (std::size_t(grid.theta_d) + 1) * (std::size_t(grid.phi_d) + 1);
 }
 
-void detail_corner_offsets(const DetailGrid& grid, std::size_t offset[4]) {
-    const std::size_t row = std::size_t(grid.phi_d) + 1, plane = (std::size_t(grid.theta_d) + 1) * row;
-    offset[0] = 0, offset[1] = row, offset[2] = plane, offset[3] = plane + row;
-}
-
 std::vector<float> padded_detail_cells_of(const float* tables, int count, const DetailGrid& grid) {
     if (count < 1 || count > 4 || grid.empty()) return {};
     const std::size_t cells = grid.cells();
@@ -83,6 +78,11 @@ std::vector<float> padded_detail_cells_of(const float* tables, int count, const 
         }
     }
     return out;
+}
+
+std::vector<float> padded_detail_cells_of(const SpectralBasis& s, const DetailGrid& grid) {
+    if (s.cells != grid.cells() || s.basis.size() < std::size_t(std::max(s.rank, 0)) * s.cells) return {};
+    return padded_detail_cells_of(s.basis.data(), s.rank, grid);
 }
 
 SpectralBasis channel_tables_of(const SpectralBasis& s, std::size_t channels) {

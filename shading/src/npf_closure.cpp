@@ -116,8 +116,7 @@ void NpfClosure::finish_construction() {
         m_cell_major_d = batch_detail::paired_cells_of(m_model.D, m_model.d_theta, m_model.d_phi, m_model.d_phi == 1);
         m_cell_major_g = batch_detail::paired_cells_of(m_model.G, m_model.g_theta, m_model.g_phi, m_model.g_phi == 1);
         const DetailGrid& grid = m_model.detail_grid;
-        if (m_model.detail.basis.size() == std::size_t(std::max(m_model.detail.rank, 0)) * grid.cells())
-            m_cell_major_detail = batch_detail::padded_detail_cells_of(m_model.detail.basis.data(), m_model.detail.rank, grid);
+        m_cell_major_detail = batch_detail::padded_detail_cells_of(m_model.detail, grid);
         m_cell_major_f = batch_detail::paired_cells_of(m_model.F.data(), int(m_model.channel_count()), m_model.f_theta, 1, true);
         m_channel_records = batch_detail::channel_records_of(m_model);
         const std::size_t channels = m_model.channel_count();
@@ -125,8 +124,7 @@ void NpfClosure::finish_construction() {
                                                     m_model.d_phi, m_model.d_phi == 1);
         m_channel_g = batch_detail::paired_cells_of(batch_detail::channel_tables_of(m_model.G, channels), m_model.g_theta,
                                                     m_model.g_phi, m_model.g_phi == 1);
-        const SpectralBasis channel_detail = batch_detail::channel_tables_of(m_model.detail, channels);
-        m_channel_detail = batch_detail::padded_detail_cells_of(channel_detail.basis.data(), channel_detail.rank, grid);
+        m_channel_detail = batch_detail::padded_detail_cells_of(batch_detail::channel_tables_of(m_model.detail, channels), grid);
     }
     try {
         m_sampler = HalfVectorSampler(HalfVectorSampler::luminance_averaged_ndf(m_model), m_model.d_theta,

@@ -8,7 +8,6 @@
 #include <immintrin.h>
 
 #include <cstdint>
-
 #include <limits>
 
 namespace npf::simd {
