@@ -12,6 +12,7 @@
 
 #include <OpenImageIO/imageio.h>
 #include "error_of.h"
+#include "test_png.h"
 
 #include <gtest/gtest.h>
 
@@ -332,31 +333,21 @@ FloatImage grey_ramp(int channels) {
     return image;
 }
 
-std::vector<unsigned char> read_png(const std::string& path, int& channels) {
-    OIIO::ImageSpec hints;  // the stored values: OIIO would premultiply PNG alpha on reading
-    hints.attribute("oiio:UnassociatedAlpha", 1);
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path, &hints);
-    if (!in) {
-        ADD_FAILURE() << "cannot read " << path << ": " << OIIO::geterror();
-        return {};
-    }
-    const OIIO::ImageSpec& spec = in->spec();
-    EXPECT_EQ(spec.width, 4);
-    EXPECT_EQ(spec.height, 2);
-    EXPECT_EQ(in->format_name(), std::string("png"));
-    channels = spec.nchannels;
-    std::vector<unsigned char> pixels(static_cast<std::size_t>(spec.width * spec.height * spec.nchannels));
-    EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeUInt8, pixels.data()));
-    return pixels;
+// The 4 x 2 ramps below, read back as stored.
+npf::testing::Png read_ramp_png(const std::string& path) {
+    npf::testing::Png png = npf::testing::read_png(path);
+    EXPECT_EQ(png.width, 4);
+    EXPECT_EQ(png.height, 2);
+    return png;
 }
 
 TEST(ColorDisplayPng, WritesAReadableDisplayEncodedPng) {
     const std::string dir = npf::testing::temporary_folder("display_png");
     const std::string path = (fs::path(dir) / "ramp.png").string();
     write_display_png(path, grey_ramp(3), shipped());
-    int channels = 0;
-    const std::vector<unsigned char> px = read_png(path, channels);
-    ASSERT_EQ(channels, 3);
+    const npf::testing::Png png = read_ramp_png(path);
+    const std::vector<unsigned char>& px = png.pixels;
+    ASSERT_EQ(png.channels, 3);
     ASSERT_EQ(px.size(), 24u);
     const int expected_top[4] = {0, 118, 255, 255};  // 0.461356 * 255 = 117.6; 4.0 clips
     for (int x = 0; x < 4; ++x)
@@ -371,9 +362,9 @@ TEST(ColorDisplayPng, StraightAlphaFromPremultiplied) {
     const std::string dir = npf::testing::temporary_folder("display_png_alpha");
     const std::string path = (fs::path(dir) / "ramp.png").string();
     write_display_png(path, grey_ramp(4), shipped());
-    int channels = 0;
-    const std::vector<unsigned char> px = read_png(path, channels);
-    ASSERT_EQ(channels, 4);
+    const npf::testing::Png png = read_ramp_png(path);
+    const std::vector<unsigned char>& px = png.pixels;
+    ASSERT_EQ(png.channels, 4);
     ASSERT_EQ(px.size(), 32u);
     // Bottom row: colour 0.09 premultiplied by alpha 0.5 is 0.18 straight -> 118.
     EXPECT_EQ(px[(4 + 1) * 4 + 0], 118);

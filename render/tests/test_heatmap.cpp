@@ -2,6 +2,7 @@
 // pair, pixel by pixel.
 #include "error_of.h"
 #include "test_images.h"
+#include "test_png.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 
@@ -9,7 +10,6 @@
 #include <npf/render/heatmap.h>
 #include <npf/render/image_metrics.h>
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -41,20 +41,6 @@ TEST(Heatmap, ColourRampFromBlueToRed) {
     EXPECT_EQ(npf::render::heatmap_colour(0.05, 0.1), (C{0, 255, 0}));  // another scale
 }
 
-std::vector<unsigned char> read_png(const std::string& path, int& channels) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) {
-        ADD_FAILURE() << "cannot read " << path;
-        return {};
-    }
-    EXPECT_EQ(in->format_name(), std::string("png"));
-    const OIIO::ImageSpec& spec = in->spec();
-    channels = spec.nchannels;
-    std::vector<unsigned char> px(static_cast<std::size_t>(spec.width * spec.height * spec.nchannels));
-    EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeUInt8, px.data()));
-    return px;
-}
-
 TEST(Heatmap, PngShowsRelMsePerPixelAndBlackBackground) {
     // Four pixels against a reference of 1 (relMSE = d^2 / 1.01 per channel): identical (blue),
     // d = 1 (relMSE 0.99, red), not covered in either (black), d^2 = 0.025 * 1.01 (green).
@@ -69,9 +55,9 @@ TEST(Heatmap, PngShowsRelMsePerPixelAndBlackBackground) {
     const std::string dir = npf::testing::temporary_folder("heatmap");
     const std::string png = (fs::path(dir) / "heat.png").string();
     npf::render::write_relmse_heatmap(png, npf::render::relmse_map(reference, test));
-    int channels = 0;
-    const std::vector<unsigned char> px = read_png(png, channels);
-    ASSERT_EQ(channels, 3);
+    const npf::testing::Png read = npf::testing::read_png(png);
+    const std::vector<unsigned char>& px = read.pixels;
+    ASSERT_EQ(read.channels, 3);
     ASSERT_EQ(px.size(), 12u);
     EXPECT_EQ(std::vector<unsigned char>(px.begin(), px.begin() + 3), (std::vector<unsigned char>{0, 0, 255}));
     EXPECT_EQ(std::vector<unsigned char>(px.begin() + 3, px.begin() + 6), (std::vector<unsigned char>{255, 0, 0}));

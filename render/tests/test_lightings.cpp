@@ -4,6 +4,7 @@
 #include "run_tool.h"
 #include "synthetic_rgl.h"
 #include "target_ladder.h"
+#include "test_lambertian.h"
 
 #include <npf/converter/convert.h>
 #include <npf/converter/psnr_prediction.h>
@@ -34,33 +35,7 @@ namespace key_rim = npf::render::key_rim;
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A Lambertian of constant albedo, RGB: f_r = albedo / pi.
-class Lambertian final : public npf::Brdf {
-public:
-    explicit Lambertian(float albedo) : m_albedo(albedo) {
-        m_info.format = "test lambertian";
-        m_info.channels = npf::Channels::rgb();
-    }
-    const npf::BrdfInfo& info() const override { return m_info; }
-    npf::ChannelQuery query(const npf::Channels& requested) const override {
-        npf::ChannelQuery q;
-        q.requested = requested;
-        q.index0.assign(requested.size(), 0);
-        q.index1.assign(requested.size(), 0);
-        q.weight1.assign(requested.size(), 0.f);
-        return q;
-    }
-    void eval_cos(const Vec3& wi, const Vec3& wo, const npf::ChannelQuery& q, float* out) const override {
-        const float v = wi.z > 0.f && wo.z > 0.f ? m_albedo * wo.z / float(kPi) : 0.f;
-        for (std::size_t k = 0; k < q.size(); ++k) out[k] = v;
-    }
-    float pdf(const Vec3&, const Vec3&) const override { return 0.f; }
-    bool sample(const Vec3&, const npf::Vec2&, const npf::ChannelQuery&, npf::BrdfSample&, float*) const override { return false; }
-
-private:
-    float m_albedo;
-    npf::BrdfInfo m_info;
-};
+using npf::testing::Lambertian;
 
 npf::render::RenderOptions small(std::size_t size) {
     npf::render::RenderOptions o;

@@ -2,10 +2,10 @@
 // premultiplied alpha, determinism (seeds, thread counts), shared random numbers across
 // materials, RGB against spectral rendering, MIS against either strategy alone, option errors.
 #include "chi2.h"
+#include "test_lambertian.h"
 
 #include <npf/color/spectrum.h>
 #include <npf/materials/analytic/analytic_brdf.h>
-#include <npf/core/cosine_sampling.h>
 #include <npf/core/error.h>
 #include <npf/render/environment_map.h>
 #include <npf/render/path_tracer.h>
@@ -27,39 +27,7 @@ using npf::render::RenderResult;
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A Lambertian reflector of constant albedo that reports RGB or any wavelength list as its
-// stored channels and provides any channels asked for; cosine-weighted sampling.
-class Lambertian final : public npf::Brdf {
-public:
-    Lambertian(float albedo, Channels stored) : m_albedo(albedo) {
-        m_info.format = "test lambertian";
-        m_info.channels = std::move(stored);
-    }
-    const npf::BrdfInfo& info() const override { return m_info; }
-    npf::ChannelQuery query(const Channels& requested) const override {
-        npf::ChannelQuery q;
-        q.requested = requested;
-        q.index0.assign(requested.size(), 0);
-        q.index1.assign(requested.size(), 0);
-        q.weight1.assign(requested.size(), 0.f);
-        return q;
-    }
-    void eval_cos(const npf::Vec3& wi, const npf::Vec3& wo, const npf::ChannelQuery& q, float* out) const override {
-        const float v = wi.z > 0.f && wo.z > 0.f ? m_albedo * wo.z / float(kPi) : 0.f;
-        for (std::size_t k = 0; k < q.size(); ++k) out[k] = v;
-    }
-    float pdf(const npf::Vec3& wi, const npf::Vec3& wo) const override {
-        return wi.z > 0.f && wo.z > 0.f ? wo.z / float(kPi) : 0.f;
-    }
-    bool sample(const npf::Vec3& wi, const npf::Vec2& u, const npf::ChannelQuery& q, npf::BrdfSample& s,
-                float* weight) const override {
-        return npf::sample_cosine_hemisphere(*this, wi, u, q, s, weight);
-    }
-
-private:
-    float m_albedo;
-    npf::BrdfInfo m_info;
-};
+using npf::testing::Lambertian;
 
 // An analytic glossy material (GGX lobe, Schlick-like Fresnel, diffuse), anisotropic.
 std::unique_ptr<npf::AnalyticBrdf> glossy() {

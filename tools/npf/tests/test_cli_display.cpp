@@ -4,10 +4,10 @@
 #include "cli_run.h"
 #include "run_tool.h"
 #include "synthetic_rgl.h"
+#include "test_png.h"
 
 #include <npf/color/spectrum.h>
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,19 +21,6 @@ namespace fs = std::filesystem;
 using namespace npf::testing;  // run_tool, describe, contains, ...
 
 const std::string kConfig = std::string(NPF_SOURCE_DIR) + "/configs/ocio/config.ocio";
-
-std::vector<unsigned char> read_png(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) {
-        ADD_FAILURE() << "cannot read " << path;
-        return {};
-    }
-    EXPECT_EQ(in->format_name(), std::string("png"));
-    const OIIO::ImageSpec& spec = in->spec();
-    std::vector<unsigned char> px(static_cast<std::size_t>(spec.width * spec.height * spec.nchannels));
-    EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeUInt8, px.data()));
-    return px;
-}
 
 TEST(CliDisplay, LinearAndXyzImagesToPng) {
     const std::string dir = npf::testing::temporary_folder("cli_display");
@@ -49,7 +36,7 @@ TEST(CliDisplay, LinearAndXyzImagesToPng) {
         const ToolRun r = npf::testing::run_tool({"display", input, "-o", png, "--from", from, "--config", kConfig});
         ASSERT_EQ(r.status, 0) << describe(r);
         EXPECT_EQ(r.err, "") << describe(r);
-        const std::vector<unsigned char> px = read_png(png);
+        const std::vector<unsigned char> px = read_png(png).pixels;
         ASSERT_EQ(px.size(), 6u);
         for (int c = 0; c < 3; ++c) {
             EXPECT_EQ(px[c], 118) << from;      // 0.4614 * 255
