@@ -110,9 +110,18 @@ int main(int argc, char** argv) try {
     }
     double seconds = 1.0;
     int profile_rounds = 0;
-    for (int i = 2; i + 1 < argc; i += 2) {
-        if (std::strcmp(argv[i], "--seconds") == 0) seconds = std::atof(argv[i + 1]);
-        if (std::strcmp(argv[i], "--profile-float") == 0) profile_rounds = std::atoi(argv[i + 1]);
+    for (int i = 2; i < argc; i += 2) {
+        const bool is_seconds = std::strcmp(argv[i], "--seconds") == 0, is_profile = std::strcmp(argv[i], "--profile-float") == 0;
+        char* end = nullptr;
+        const double v = i + 1 < argc ? std::strtod(argv[i + 1], &end) : 0.0;
+        const bool number = end && end != argv[i + 1] && *end == '\0' && std::isfinite(v) && v > 0.0;
+        if (!(is_seconds || is_profile) || !number || (is_profile && (v != std::floor(v) || v > 1e6))) {
+            std::fprintf(stderr, "npf_bench_batch_floor: %s %s: want --seconds S (S > 0) or --profile-float ROUNDS (a whole number > 0)\n",
+                         argv[i], i + 1 < argc ? argv[i + 1] : "(missing)");
+            return 2;
+        }
+        if (is_seconds) seconds = v;
+        if (is_profile) profile_rounds = int(v);
     }
     const npf::NpfClosure closure(argv[1], npf::NpfClosure::Path::Memory);
     npf::NpfClosure float_closure(argv[1], npf::NpfClosure::Path::Memory);
